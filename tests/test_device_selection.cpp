@@ -1,0 +1,59 @@
+// Device choice by name/index, and the clear error when nothing matches.
+#include <doctest/doctest.h>
+
+#include "engine/error.h"
+#include "engine/vk_context.h"
+#include "tests/gpu_test.h"
+
+using namespace refrax;
+
+TEST_CASE("the test device qualifies and offers ray queries") {
+  Context& ctx = test::context();
+  CHECK(ctx.caps.rayQuery);
+  CHECK(ctx.caps.accelerationStructure);
+  CHECK(ctx.caps.qualifies());
+}
+
+TEST_CASE("asking for a device that does not exist is one clear error") {
+  ContextOptions o;
+  o.device = "no-such-device-xyz";
+  try {
+    createContext(o);
+    FAIL("createContext accepted a device that does not exist");
+  } catch (const Error& e) {
+    std::string m = e.what();
+    CHECK(m.find("no Vulkan device matches 'no-such-device-xyz'") != std::string::npos);
+    CHECK(m.find("[0]") != std::string::npos);  // lists the devices seen
+  }
+  o.device = "99";
+  CHECK_THROWS_AS(createContext(o), Error);
+}
+
+TEST_CASE("the CLI reports a missing device with one error line and a non-zero exit") {
+  auto r = test::runCli("selftest --device no-such-device-xyz");
+  CHECK(r.exitCode == 1);
+  CHECK(r.output.rfind("refrax: error: no Vulkan device matches 'no-such-device-xyz'", 0) == 0);
+  CHECK(r.output.find("Segmentation") == std::string::npos);
+}
+
+TEST_CASE("the CLI rejects unknown commands and options") {
+  CHECK(test::runCli("no-such-command").exitCode == 2);
+  auto r = test::runCli("selftest --no-such-option");
+  CHECK(r.exitCode == 1);
+  CHECK(r.output.find("unknown option --no-such-option") != std::string::npos);
+}
+
+TEST_CASE("refrax devices lists the device with its capabilities") {
+  auto r = test::runCli("devices");
+  CHECK(r.exitCode == 0);
+  CHECK(r.output.find("ray query yes") != std::string::npos);
+  CHECK(r.output.find("qualifies for Refrax") != std::string::npos);
+}
+
+TEST_CASE("refrax selftest passes with validation on") {
+  auto r = test::runCli("selftest --validation");
+  INFO(r.output);
+  CHECK(r.exitCode == 0);
+  CHECK(r.output.find("validation messages: 0") != std::string::npos);
+  CHECK(r.output.find("selftest passed") != std::string::npos);
+}

@@ -1,0 +1,107 @@
+#include "trainer/cli.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include "engine/error.h"
+#include "engine/vk_context.h"
+
+namespace refrax::cli {
+
+namespace {
+std::vector<Command>& registry() {
+  static std::vector<Command> r;
+  return r;
+}
+}  // namespace
+
+void registerCommand(const Command& command) {
+  registry().push_back(command);
+  std::sort(registry().begin(), registry().end(), [](const Command& a, const Command& b) { return a.name < b.name; });
+}
+
+const std::vector<Command>& commands() { return registry(); }
+
+std::string Args::get(const std::string& name, const std::string& fallback) const {
+  auto it = values.find(name);
+  return it == values.end() ? fallback : it->second;
+}
+
+double Args::getDouble(const std::string& name, double fallback) const {
+  auto it = values.find(name);
+  if (it == values.end()) return fallback;
+  char* end = nullptr;
+  double v = std::strtod(it->second.c_str(), &end);
+  if (end == it->second.c_str() || *end) fail("--" + name + " expects a number, got '" + it->second + "'");
+  return v;
+}
+
+long Args::getInt(const std::string& name, long fallback) const {
+  auto it = values.find(name);
+  if (it == values.end()) return fallback;
+  char* end = nullptr;
+  long v = std::strtol(it->second.c_str(), &end, 10);
+  if (end == it->second.c_str() || *end) fail("--" + name + " expects an integer, got '" + it->second + "'");
+  return v;
+}
+
+std::vector<Option> deviceOptions() {
+  return {{"device", "NAME|INDEX", "Vulkan device to use (also REFRAX_DEVICE); default: the best qualifying one", ""},
+          {"validation", "", "enable the Khronos validation layer (also REFRAX_VALIDATION=1)", ""}};
+}
+
+std::unique_ptr<Context> openContext(const Args& args, bool verbose) {
+  ContextOptions o;
+  o.device = args.get("device");
+  o.validation = args.has("validation");
+  o.verbose = verbose;
+  return createContext(o);
+}
+
+Args parseArgs(const Command& command, int argc, char** argv, int first) {
+  Args args;
+  args.command = command.name;
+  for (int i = first; i < argc; i++) {
+    std::string a = argv[i];
+    if (a == "-h" || a == "--help") {
+      args.values["help"] = "1";
+      continue;
+    }
+    if (a.rfind("--", 0) != 0 || a.size() == 2) {
+      args.positional.push_back(a);
+      continue;
+    }
+    std::string name = a.substr(2), value;
+    size_t eq = name.find('=');
+    bool inlineValue = eq != std::string::npos;
+    if (inlineValue) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    }
+    auto opt = std::find_if(command.options.begin(), command.options.end(), [&](const Option& o) { return o.name == name; });
+    if (opt == command.options.end()) fail("unknown option --" + name + " for 'refrax " + command.name + "' (see --help)");
+    if (opt->metavar.empty()) {
+      if (inlineValue) fail("--" + name + " takes no value");
+      args.values[name] = "1";
+    } else {
+      if (!inlineValue) {
+        if (i + 1 >= argc) fail("--" + name + " needs a value (" + opt->metavar + ")");
+        value = argv[++i];
+      }
+      args.values[name] = value;
+    }
+  }
+  return args;
+}
+
+void printHelp(const Command& c) {
+  std::printf("usage: %s\n\n%s\n", c.usage.c_str(), c.summary.c_str());
+  if (!c.options.empty()) std::printf("\noptions:\n");
+  for (auto& o : c.options) {
+    std::string left = "--" + o.name + (o.metavar.empty() ? "" : " " + o.metavar);
+    std::printf("  %-28s %s%s\n", left.c_str(), o.help.c_str(), o.fallback.empty() ? "" : (" (default " + o.fallback + ")").c_str());
+  }
+}
+
+}  // namespace refrax::cli

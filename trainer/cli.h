@@ -1,0 +1,59 @@
+#pragma once
+// The `refrax` command line: each subcommand registers itself from its own file with
+// REFRAX_COMMAND, and declares its options so `--help` and error messages come for free.
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace refrax {
+struct Context;
+}
+
+namespace refrax::cli {
+
+struct Option {
+  std::string name;      // without the leading "--"
+  std::string metavar;   // empty: a flag without a value
+  std::string help;
+  std::string fallback;  // default shown in --help (empty: none)
+};
+
+struct Args {
+  std::string command;
+  std::vector<std::string> positional;
+  std::map<std::string, std::string> values;  // options given (flags map to "1")
+
+  bool has(const std::string& name) const { return values.count(name) != 0; }
+  std::string get(const std::string& name, const std::string& fallback = "") const;
+  double getDouble(const std::string& name, double fallback) const;
+  long getInt(const std::string& name, long fallback) const;
+};
+
+struct Command {
+  std::string name;
+  std::string summary;
+  std::string usage;  // e.g. "refrax bench <suite> [options]"
+  std::vector<Option> options;
+  int (*run)(const Args&);
+};
+
+void registerCommand(const Command& command);
+const std::vector<Command>& commands();
+// Parses argv for `command` (throws refrax::Error on unknown options or missing values).
+Args parseArgs(const Command& command, int argc, char** argv, int first);
+void printHelp(const Command& command);
+// Options every device-using command accepts: --device, --validation.
+std::vector<Option> deviceOptions();
+// The Vulkan context chosen by --device / --validation (and their environment variables).
+std::unique_ptr<Context> openContext(const Args& args, bool verbose = true);
+
+struct Registrar {
+  explicit Registrar(const Command& c) { registerCommand(c); }
+};
+
+}  // namespace refrax::cli
+
+#define REFRAX_CLI_CONCAT2(a, b) a##b
+#define REFRAX_CLI_CONCAT(a, b) REFRAX_CLI_CONCAT2(a, b)
+#define REFRAX_COMMAND(...) static ::refrax::cli::Registrar REFRAX_CLI_CONCAT(refraxCommand_, __LINE__)(::refrax::cli::Command __VA_ARGS__)
