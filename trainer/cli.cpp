@@ -23,6 +23,13 @@ void registerCommand(const Command& command) {
 
 const std::vector<Command>& commands() { return registry(); }
 
+std::vector<Option> Command::allOptions() const {
+  std::vector<Option> all = options;
+  if (lateOptions)
+    for (auto& o : lateOptions()) all.push_back(o);
+  return all;
+}
+
 std::string Args::get(const std::string& name, const std::string& fallback) const {
   auto it = values.find(name);
   return it == values.end() ? fallback : it->second;
@@ -62,6 +69,7 @@ std::unique_ptr<Context> openContext(const Args& args, bool verbose) {
 Args parseArgs(const Command& command, int argc, char** argv, int first) {
   Args args;
   args.command = command.name;
+  const std::vector<Option> options = command.allOptions();
   for (int i = first; i < argc; i++) {
     std::string a = argv[i];
     if (a == "-h" || a == "--help") {
@@ -79,8 +87,8 @@ Args parseArgs(const Command& command, int argc, char** argv, int first) {
       value = name.substr(eq + 1);
       name = name.substr(0, eq);
     }
-    auto opt = std::find_if(command.options.begin(), command.options.end(), [&](const Option& o) { return o.name == name; });
-    if (opt == command.options.end()) fail("unknown option --" + name + " for 'refrax " + command.name + "' (see --help)");
+    auto opt = std::find_if(options.begin(), options.end(), [&](const Option& o) { return o.name == name; });
+    if (opt == options.end()) fail("unknown option --" + name + " for 'refrax " + command.name + "' (see --help)");
     if (opt->metavar.empty()) {
       if (inlineValue) fail("--" + name + " takes no value");
       args.values[name] = "1";
@@ -97,8 +105,9 @@ Args parseArgs(const Command& command, int argc, char** argv, int first) {
 
 void printHelp(const Command& c) {
   std::printf("usage: %s\n\n%s\n", c.usage.c_str(), c.summary.c_str());
-  if (!c.options.empty()) std::printf("\noptions:\n");
-  for (auto& o : c.options) {
+  const std::vector<Option> options = c.allOptions();
+  if (!options.empty()) std::printf("\noptions:\n");
+  for (auto& o : options) {
     std::string left = "--" + o.name + (o.metavar.empty() ? "" : " " + o.metavar);
     std::printf("  %-28s %s%s\n", left.c_str(), o.help.c_str(), o.fallback.empty() ? "" : (" (default " + o.fallback + ")").c_str());
   }

@@ -1,6 +1,7 @@
 #pragma once
 // The `refrax` command line: each subcommand registers itself from its own file with
 // REFRAX_COMMAND, and declares its options so `--help` and error messages come for free.
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -36,6 +37,9 @@ struct Command {
   std::string usage;  // e.g. "refrax bench <suite> [options]"
   std::vector<Option> options;
   int (*run)(const Args&);
+  // Options known only after every file has registered (bench suites); may be null.
+  std::vector<Option> (*lateOptions)() = nullptr;
+  std::vector<Option> allOptions() const;
 };
 
 void registerCommand(const Command& command);
