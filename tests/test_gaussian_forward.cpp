@@ -30,7 +30,7 @@ void checkForwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind kin
   TraceOptions opt = randomBackground(rng);
   auto gpu = traceGaussians(ctx, tracer, proxies, dev, rays, opt);
   auto cmp = compareForward(set, rays, gpu, toOptionsD(opt));
-  INFO(proxyKindName(kind) << ", " << set.count() << " Gaussians; first problem: " << cmp.firstProblem);
+  INFO(std::string(proxyKindName(kind)) << ", " << set.count() << " Gaussians; first problem: " << cmp.firstProblem);
   INFO("worst colour rel " << cmp.worstColorRel << ", opacity " << cmp.worstOpacity << ", depth rel " << cmp.worstDepthRel
                            << ", mean hits " << cmp.meanHits << ", skipped " << cmp.skippedNearThreshold);
   CHECK(cmp.poisoned == 0);
@@ -117,7 +117,7 @@ GPU_TEST_CASE("Gaussian proxies follow moved Gaussians by refit and by rebuild")
       updateGaussianProxies(ctx, tracer, proxies, dev, refit);
       auto gpu = traceGaussians(ctx, tracer, proxies, dev, rays);
       auto cmp = compareForward(moved, rays, gpu, {});
-      INFO(proxyKindName(kind) << (refit ? " refit" : " rebuild") << ": " << cmp.firstProblem << " worst colour " << cmp.worstColorRel);
+      INFO(std::string(proxyKindName(kind)) << (refit ? " refit" : " rebuild") << ": " << cmp.firstProblem << " worst colour " << cmp.worstColorRel);
       CHECK(cmp.compared >= rays.size() * 95 / 100);
       CHECK(cmp.hitCountMismatch == 0);
       CHECK(cmp.worstColorRel <= 1e-4);
