@@ -32,9 +32,10 @@ void main() {
   float density = sigmoidOf(params[b + kGaussLogitDensity]);
   mat3 R = rotationOf(q);
   mat3 M = worldToLocalOf(R, 1.0 / s);
-  tg[pc.instanced != 0u ? id : k] = TraceGaussian(vec4(mu, density), vec4(M[0], uintBitsToFloat(id)), vec4(M[1], 0.0), vec4(M[2], 0.0));
-
   float radius = proxyRadiusOf(density) * kBoxMargin;
+  tg[pc.instanced != 0u ? id : k] =
+      TraceGaussian(vec4(mu, density), vec4(M[0], uintBitsToFloat(id)), vec4(M[1], radius * radius), vec4(M[2], 0.0));
+
   if (pc.instanced == 0u) {
     // world-axis half extent of the ellipsoid R S (radius * unit ball): |row a of R S|
     vec3 e;

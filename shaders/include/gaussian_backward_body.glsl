@@ -96,7 +96,8 @@ void main() {
 
       uint b = id * kGaussFloats;
       // SH coefficients and the SH direction
-      for (uint kk = 0u; kk < coefficients; kk++) {
+      for (uint kk = 0u; kk < kShCoefficients; kk++) {  // constant bound: unrolls, shBasis folds
+        if (kk >= coefficients) break;
         float Y = shBasis(kk, dn);
         vec3 coef = vec3(params[b + kGaussSH + 3u * kk], params[b + kGaussSH + 3u * kk + 1u], params[b + kGaussSH + 3u * kk + 2u]);
         addGrad(b + kGaussSH + 3u * kk, dColor.r * Y);

@@ -31,6 +31,9 @@ int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
     float t;
     vec3 r, x;
     float m = gaussianPeak(o, d, q.meanDensity.xyz, mat3(q.m0.xyz, q.m1.xyz, q.m2.xyz), t, r, x);
+    // cheap pre-test before the exp: well outside the cut-off ellipsoid (m1.w holds its
+    // squared radius, padded) acceptedAlpha would reject the hit anyway
+    if (m >= q.m1.w) continue;
     float a = acceptedAlpha(m, q.meanDensity.w);
     uint id = floatBitsToUint(q.m0.w);
     if (a == 0.0 || t >= tmax || !keyBefore(tcur, idcur, t, id)) continue;
@@ -56,8 +59,11 @@ int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
 vec3 shColorRaw(uint id, vec3 dn, uint coefficients) {
   uint base = id * kGaussFloats + kGaussSH;
   vec3 c = vec3(0.5);
-  for (uint k = 0u; k < coefficients; k++)
+  // constant bound: the loop unrolls and each shBasis folds to its polynomial
+  for (uint k = 0u; k < kShCoefficients; k++) {
+    if (k >= coefficients) break;
     c += shBasis(k, dn) * vec3(params[base + 3u * k], params[base + 3u * k + 1u], params[base + 3u * k + 2u]);
+  }
   return c;
 }
 #endif

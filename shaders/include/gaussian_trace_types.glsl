@@ -4,7 +4,8 @@
 #include "gaussian_math.glsl"
 
 // What the tracer reads per candidate: mean and density, and M = S^-1 R^T by columns; the
-// Gaussian's id in m0.w (bits). Written by gaussian_prepare.comp in proxy order.
+// Gaussian's id in m0.w (bits), the squared cut-off radius (slightly padded) in m1.w.
+// Written by gaussian_prepare.comp in proxy order.
 struct TraceGaussian {
   vec4 meanDensity;
   vec4 m0;
