@@ -23,7 +23,7 @@ struct PreparePush {
   uint32_t blasAddress[2];
 };
 
-constexpr uint32_t kTraceGaussianBytes = 64;
+constexpr uint32_t kTraceGaussianBytes = 48;
 constexpr uint32_t kInstanceBytes = sizeof(VkAccelerationStructureInstanceKHR);
 static_assert(kInstanceBytes == 64, "instance layout written by gaussian_prepare.comp");
 
@@ -79,6 +79,13 @@ TracePush tracePush(uint32_t count, const TraceOptions& o) {
 }  // namespace
 
 const char* proxyKindName(ProxyKind kind) { return kind == ProxyKind::AabbBlas ? "aabb-blas" : "instanced-unit-box"; }
+
+ProxyKind proxyKindFor(const std::string& choice, const DeviceCaps& caps) {
+  if (choice == "aabb") return ProxyKind::AabbBlas;
+  if (choice == "instanced") return ProxyKind::InstancedUnitBox;
+  if (choice != "auto") fail("unknown Gaussian proxy '" + choice + "' (aabb, instanced or auto)");
+  return caps.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? ProxyKind::AabbBlas : ProxyKind::InstancedUnitBox;
+}
 
 GaussianTracer createGaussianTracer(Context& ctx, uint32_t K, bool casAtomics) {
   if (K == 0 || K > 64) fail("k-buffer size " + std::to_string(K) + " is outside 1..64");

@@ -4,6 +4,7 @@
 // or rays refracted at the water surface) and its backward to per-Gaussian gradients and
 // per-ray dL/d(origin, direction).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/gaussians.h"
@@ -19,6 +20,11 @@ enum class ProxyKind : uint32_t {
   InstancedUnitBox = 1,  // a unit-box BLAS instanced per Gaussian (transform = scaled rotation)
 };
 const char* proxyKindName(ProxyKind kind);
+struct DeviceCaps;
+// "aabb", "instanced" or "auto". Auto picks the variant `refrax bench tracer` measured
+// faster on this kind of device: the AABB BLAS on CPU devices (lavapipe); on GPUs, not
+// measured here, the reference implementation's default, the instanced unit box.
+ProxyKind proxyKindFor(const std::string& choice, const DeviceCaps& caps);
 
 // Host mirror of TraceResult (shaders/include/gaussian_trace_types.glsl).
 struct GpuTraceResult {

@@ -33,8 +33,9 @@ void main() {
   mat3 R = rotationOf(q);
   mat3 M = worldToLocalOf(R, 1.0 / s);
   float radius = proxyRadiusOf(density) * kBoxMargin;
-  tg[pc.instanced != 0u ? id : k] =
-      TraceGaussian(vec4(mu, density), vec4(M[0], uintBitsToFloat(id)), vec4(M[1], radius * radius), vec4(M[2], 0.0));
+  mat3 A = transpose(M) * M;
+  tg[pc.instanced != 0u ? id : k] = TraceGaussian(vec4(mu, density), vec4(A[0][0], A[0][1], A[0][2], A[1][1]),
+                                                  vec4(A[1][2], A[2][2], uintBitsToFloat(id), radius * radius));
 
   if (pc.instanced == 0u) {
     // world-axis half extent of the ellipsoid R S (radius * unit ball): |row a of R S|

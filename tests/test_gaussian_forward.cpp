@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "engine/camera_rays.h"
+#include "engine/gaussian_math.h"
 #include "engine/gaussian_trace.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"
@@ -157,7 +158,31 @@ GPU_TEST_CASE("Gaussian tracer refuses bad input with one clear error") {
   TraceOptions opt;
   opt.shDegree = 4;
   CHECK_THROWS_AS(traceGaussians(ctx, tracer, proxies, dev, raysIntoVolume(rng, 4), opt), Error);
+  CHECK_THROWS_WITH_AS(proxyKindFor("boxes", ctx.caps), doctest::Contains("unknown Gaussian proxy"), Error);
+  CHECK(proxyKindFor("instanced", ctx.caps) == ProxyKind::InstancedUnitBox);
+  CHECK(proxyKindFor("aabb", ctx.caps) == ProxyKind::AabbBlas);
   GaussianSet bad = set;
   bad.at(3)[2] = std::nanf("");
   CHECK_THROWS_AS(validateGaussians(bad, "test"), Error);
+}
+
+TEST_CASE("the tracer's precision-matrix kernel equals the M-form kernel of the reference") {
+  std::mt19937 rng(freshSeed());
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  using namespace refrax::f64;
+  double worstM = 0, worstT = 0;
+  for (int i = 0; i < 1000; i++) {
+    real3 mu(U(rng), U(rng), U(rng)), p(3 * U(rng), 3 * U(rng), 2 + U(rng)), w(U(rng), U(rng), -1.5 + 0.5 * U(rng));
+    real3 s = glm::exp(real3(-3 + U(rng), -3 + U(rng), -3 + U(rng)));
+    real3x3 M = worldToLocalOf(rotationOf(real4(U(rng), U(rng), U(rng), U(rng))), real3(1) / s);
+    real t1, t2;
+    real3 r, x;
+    real m1 = gaussianPeak(p, w, mu, M, t1, r, x);
+    real m2 = gaussianPeakPrecision(p, w, 1 / dot(w, w), mu, transpose(M) * M, t2);
+    worstM = std::max(worstM, std::fabs(m1 - m2) / std::max(m1, 1.0));
+    worstT = std::max(worstT, std::fabs(t1 - t2) / std::max(std::fabs(t1), 1.0));
+    CHECK(dot(r, r) == doctest::Approx(m1));
+  }
+  CHECK(worstM < 1e-9);
+  CHECK(worstT < 1e-12);
 }

@@ -19,8 +19,8 @@ layout(local_size_x = 64) in;
 layout(constant_id = 0) const int K = 16;
 layout(constant_id = 1) const bool kInstanced = false;
 layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
-layout(std430, set = 0, binding = 1) readonly buffer Trace { TraceGaussian tg[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Params { float params[]; };
+layout(std430, set = 0, binding = 1) restrict readonly buffer Trace { TraceGaussian tg[]; };
+layout(std430, set = 0, binding = 2) restrict readonly buffer Params { float params[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Rays { Ray rays[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Results { TraceResult results[]; };
 layout(std430, set = 0, binding = 5) readonly buffer LossGrad { vec4 dLoss[]; };  // dL/d(rgb, opacity)

@@ -19,6 +19,7 @@ bool keyBefore(float t0, uint id0, float t1, uint id1) { return t0 < t1 || (t0 =
 // returns how many.
 int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
   int n = 0;
+  float invLen2 = 1.0 / dot(d, d);
   rayQueryEXT rq;
   // a little before tcur, so a Gaussian peaking right at tcur still overlaps the interval
   float tq = max(0.0, tcur - 1e-5 * (1.0 + abs(tcur)));
@@ -27,16 +28,20 @@ int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
     if (rayQueryGetIntersectionTypeEXT(rq, false) != gl_RayQueryCandidateIntersectionAABBEXT) continue;
     uint slot = kInstanced ? rayQueryGetIntersectionInstanceCustomIndexEXT(rq, false)
                            : rayQueryGetIntersectionPrimitiveIndexEXT(rq, false);
-    TraceGaussian q = tg[slot];
+    // only what the test needs is loaded (each load is per lane on a CPU device)
+    vec4 md = tg[slot].meanDensity;
+    vec4 a0 = tg[slot].a0;
+    vec2 a1 = tg[slot].a1.xy;
+    mat3 A = mat3(a0.x, a0.y, a0.z, a0.y, a0.w, a1.x, a0.z, a1.x, a1.y);
     float t;
-    vec3 r, x;
-    float m = gaussianPeak(o, d, q.meanDensity.xyz, mat3(q.m0.xyz, q.m1.xyz, q.m2.xyz), t, r, x);
-    // cheap pre-test before the exp: well outside the cut-off ellipsoid (m1.w holds its
-    // squared radius, padded) acceptedAlpha would reject the hit anyway
-    if (m >= q.m1.w) continue;
-    float a = acceptedAlpha(m, q.meanDensity.w);
-    uint id = floatBitsToUint(q.m0.w);
-    if (a == 0.0 || t >= tmax || !keyBefore(tcur, idcur, t, id)) continue;
+    float m = gaussianPeakPrecision(o, d, invLen2, md.xyz, A, t);
+    // cheap pre-test before the exp: outside the (padded) cut-off ellipsoid acceptedAlpha
+    // would reject the hit anyway
+    if (m >= tg[slot].a1.w) continue;
+    float a = acceptedAlpha(m, md.w);
+    if (a == 0.0 || t >= tmax) continue;
+    uint id = floatBitsToUint(tg[slot].a1.z);
+    if (!keyBefore(tcur, idcur, t, id)) continue;
     if (n == K && !keyBefore(t, id, kt[K - 1], kid[K - 1])) continue;
     int j = min(n, K - 1);
     while (j > 0 && keyBefore(t, id, kt[j - 1], kid[j - 1])) {

@@ -65,6 +65,20 @@ SHARED_FN real gaussianPeak(real3 p, real3 w, real3 mu, real3x3 M, OUT(real) t, 
   return dot(r, r);
 }
 
+// The same m and t from the precision matrix A = M^T M (symmetric), the form the tracer
+// evaluates for every candidate (6 numbers to load instead of 9). invLen2 = 1 / dot(w, w).
+// Centred at the closest approach to the mean like gaussianPeak, so the subtraction only
+// removes the along-ray part: as accurate as the M form.
+SHARED_FN real gaussianPeakPrecision(real3 p, real3 w, real invLen2, real3 mu, real3x3 A, OUT(real) t) {
+  real t0 = dot(mu - p, w) * invLen2;
+  real3 x0 = (p - mu) + t0 * w;
+  real3 Aw = A * w;
+  real xAw = dot(x0, Aw);
+  real tl = -xAw / dot(w, Aw);
+  t = t0 + tl;
+  return max(dot(x0, A * x0) + tl * xAw, real(0));
+}
+
 // Radius (in sigmas) of the proxy box: where density * kernel falls to the cut-off
 // (adaptive, DESIGN 1.4), capped for very faint Gaussians.
 SHARED_FN real proxyRadiusOf(real density) {

@@ -3,14 +3,13 @@
 #define REFRAX_GAUSSIAN_TRACE_TYPES_GLSL
 #include "gaussian_math.glsl"
 
-// What the tracer reads per candidate: mean and density, and M = S^-1 R^T by columns; the
-// Gaussian's id in m0.w (bits), the squared cut-off radius (slightly padded) in m1.w.
-// Written by gaussian_prepare.comp in proxy order.
+// What the tracer reads per candidate (48 bytes): mean and density; the precision matrix
+// A = M^T M as a00 a01 a02 a11 | a12 a22; the Gaussian's id (bits) and the squared cut-off
+// radius (slightly padded). Written by gaussian_prepare.comp in proxy order.
 struct TraceGaussian {
   vec4 meanDensity;
-  vec4 m0;
-  vec4 m1;
-  vec4 m2;
+  vec4 a0;  // a00 a01 a02 a11
+  vec4 a1;  // a12 a22 id radius^2
 };
 
 // Per-ray forward output (engine/gaussian_trace.h GpuTraceResult).
