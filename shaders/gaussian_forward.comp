@@ -31,6 +31,7 @@ void main() {
   vec3 o = ray.originTmin.xyz, d = ray.dirTmax.xyz;
   vec3 dn = normalize(d);
   uint coefficients = shCoefficientsFor(pc.shDegree);
+  evaluateShBasis(dn, coefficients);
   float T = 1.0, depth = 0.0, tcur = ray.originTmin.w;
   uint idcur = 0xFFFFFFFFu;  // nothing at t == tmin counts
   vec3 rgb = vec3(0.0);
@@ -40,7 +41,7 @@ void main() {
     int n = collectHits(o, d, tcur, idcur, ray.dirTmax.w);
     for (int k = 0; k < n; k++) {
       float alpha = clampedAlpha(ka[k]);
-      vec3 c = max(shColorRaw(kid[k], dn, coefficients), vec3(0.0));
+      vec3 c = max(shColorRaw(kid[k], coefficients), vec3(0.0));
       rgb += (T * alpha) * c;
       depth += T * alpha * kt[k];
       T *= 1.0 - alpha;

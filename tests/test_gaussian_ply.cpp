@@ -13,6 +13,7 @@
 #include "engine/error.h"
 #include "engine/gaussian_math.h"
 #include "engine/io/atomic_file.h"
+#include "engine/io/image_io.h"
 #include "engine/io/ply_gaussians.h"
 #include "tests/gpu_test.h"
 
@@ -126,4 +127,33 @@ TEST_CASE("a bad Gaussian PLY gives one clear error") {
   CHECK_THROWS_WITH_AS(writeGaussiansPly(path, nanSet), doctest::Contains("non-finite"), Error);
   std::ifstream none(path);
   CHECK_FALSE(none.good());  // nothing written
+}
+
+TEST_CASE("refrax render-gaussians renders a PLY without the water and refuses a bad one") {
+  std::mt19937 rng(refrax::test::freshSeed());
+  RandomGaussianOptions o;
+  o.sigmaMin = 0.03f, o.sigmaMax = 0.08f;
+  GaussianSet set = randomGaussians(rng, 300, o);
+  std::string ply = tempPath("render.ply"), png = tempPath("render.png");
+  writeGaussiansPly(ply, set);
+  auto r = refrax::test::runCli("render-gaussians " + ply + " --out " + png + " --width 40 --height 30 --background 0,0,1");
+  INFO(r.output);
+  REQUIRE(r.exitCode == 0);
+  Image img = readPng(png);
+  REQUIRE(img.width == 40);
+  REQUIRE(img.height == 30);
+  int background = 0, scene = 0;
+  for (int y = 0; y < img.height; y++)
+    for (int x = 0; x < img.width; x++) {
+      bool bg = img.at(x, y, 0) == 0.0f && img.at(x, y, 1) == 0.0f && img.at(x, y, 2) == 1.0f;
+      background += bg;
+      scene += !bg;
+    }
+  CHECK(scene > 100);  // the Gaussians show, and
+  CHECK(background > 0);  // the blue background around them
+  auto bad = refrax::test::runCli("render-gaussians " + tempPath("missing.ply") + " --out " + png);
+  CHECK(bad.exitCode != 0);
+  CHECK(bad.output.find("cannot open Gaussian PLY") != std::string::npos);
+  std::remove(ply.c_str());
+  std::remove(png.c_str());
 }

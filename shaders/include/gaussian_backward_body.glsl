@@ -69,6 +69,11 @@ void main() {
   vec3 o = ray.originTmin.xyz, d = ray.dirTmax.xyz;
   vec3 dn = normalize(d);
   uint coefficients = shCoefficientsFor(pc.shDegree);
+  evaluateShBasis(dn, coefficients);
+  // sum over hits of dot(dL/dcolour, coefficient k): the direction gradient through the SH
+  // is then sum_k shDir[k] * grad shBasis(k), evaluated once per ray
+  float shDir[16];
+  for (uint k = 0u; k < kShCoefficients; k++) shDir[k] = 0.0;
   TraceResult fwd = results[i];
   vec3 C = fwd.rgbOpacity.rgb;
   float Tfinal = fwd.transmittance;
@@ -86,7 +91,7 @@ void main() {
       uint id = kid[k];
       float rawAlpha = ka[k];
       float alpha = clampedAlpha(rawAlpha);
-      vec3 cRaw = shColorRaw(id, dn, coefficients);
+      vec3 cRaw = shColorRaw(id, coefficients);
       vec3 c = max(cRaw, vec3(0.0));
       float w = T * alpha;
       Cprefix += w * c;
@@ -98,12 +103,12 @@ void main() {
       // SH coefficients and the SH direction
       for (uint kk = 0u; kk < kShCoefficients; kk++) {  // constant bound: unrolls, shBasis folds
         if (kk >= coefficients) break;
-        float Y = shBasis(kk, dn);
+        float Y = shY[kk];
         vec3 coef = vec3(params[b + kGaussSH + 3u * kk], params[b + kGaussSH + 3u * kk + 1u], params[b + kGaussSH + 3u * kk + 2u]);
         addGrad(b + kGaussSH + 3u * kk, dColor.r * Y);
         addGrad(b + kGaussSH + 3u * kk + 1u, dColor.g * Y);
         addGrad(b + kGaussSH + 3u * kk + 2u, dColor.b * Y);
-        dDirUnit += dot(dColor, coef) * shBasisGradient(kk, dn);
+        shDir[kk] += dot(dColor, coef);
       }
       // the kernel (alpha at or above the clamp passes no gradient to the Gaussian or the ray)
       if (rawAlpha < kMaxAlpha) {
@@ -144,6 +149,8 @@ void main() {
     tcur = kt[K - 1];
     idcur = kid[K - 1];
   }
+  for (uint k = 1u; k < kShCoefficients; k++)
+    if (k < coefficients) dDirUnit += shDir[k] * shBasisGradient(k, dn);
   dDir += normalizeBackward(d, dDirUnit);
   rayGrads[i] = RayGrad(vec4(dOrigin, 0.0), vec4(dDir, 0.0));
 }

@@ -60,14 +60,19 @@ int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
   return n;
 }
 
-// SH colour of Gaussian `id` along unit direction `dn` (+0.5, before the clamp at 0).
-vec3 shColorRaw(uint id, vec3 dn, uint coefficients) {
+// SH basis along the ray, evaluated once per ray (it depends only on the direction).
+float shY[16];
+void evaluateShBasis(vec3 dn, uint coefficients) {
+  for (uint k = 0u; k < kShCoefficients; k++) shY[k] = k < coefficients ? shBasis(k, dn) : 0.0;  // unrolls, each folds
+}
+
+// SH colour of Gaussian `id` with the ray's basis shY (+0.5, before the clamp at 0).
+vec3 shColorRaw(uint id, uint coefficients) {
   uint base = id * kGaussFloats + kGaussSH;
   vec3 c = vec3(0.5);
-  // constant bound: the loop unrolls and each shBasis folds to its polynomial
   for (uint k = 0u; k < kShCoefficients; k++) {
     if (k >= coefficients) break;
-    c += shBasis(k, dn) * vec3(params[base + 3u * k], params[base + 3u * k + 1u], params[base + 3u * k + 2u]);
+    c += shY[k] * vec3(params[base + 3u * k], params[base + 3u * k + 1u], params[base + 3u * k + 2u]);
   }
   return c;
 }
