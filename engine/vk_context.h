@@ -59,6 +59,9 @@ struct Context {
   VkPhysicalDeviceMemoryProperties memory{};
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelProperties{};
   bool validation = false;
+  // Tests set this to exercise the staging path that discrete GPUs take on a device
+  // whose memory the host could map directly (lavapipe).
+  bool forceStaging = false;
 
   // Validation messages seen so far (warnings and errors of every type).
   std::atomic<int> validationMessageCount{0};
