@@ -62,3 +62,24 @@ GpuPinholeCamera toGpuCamera(const FlyCamera& cam, uint32_t width, uint32_t heig
 }
 
 }  // namespace refrax
+
+#include <cstdio>
+
+#include "engine/error.h"
+
+namespace refrax {
+
+FlyCamera parseLookAt(const std::string& text) {
+  float v[6];
+  char tail;
+  if (std::sscanf(text.c_str(), "%f,%f,%f,%f,%f,%f%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) != 6)
+    fail("camera '" + text + "' must be x,y,z,targetX,targetY,targetZ");
+  for (float x : v)
+    if (!std::isfinite(x)) fail("camera '" + text + "' is not finite");
+  if (v[0] == v[3] && v[1] == v[4] && v[2] == v[5]) fail("camera '" + text + "' looks at its own position");
+  FlyCamera cam;
+  lookAt(cam, {v[0], v[1], v[2]}, {v[3], v[4], v[5]});
+  return cam;
+}
+
+}  // namespace refrax

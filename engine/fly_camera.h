@@ -2,6 +2,7 @@
 // The viewer's camera: a fly camera (position + yaw/pitch, Z up) with an orbit mode that
 // circles a target. Pure math, so tests and `refrax render` camera paths share it.
 #include <cstdint>
+#include <string>
 #include <glm/glm.hpp>
 
 namespace refrax {
@@ -39,4 +40,9 @@ struct GpuPinholeCamera {
 };
 GpuPinholeCamera toGpuCamera(const FlyCamera& cam, uint32_t width, uint32_t height);
 
+}  // namespace refrax
+
+namespace refrax {
+// "x,y,z,tx,ty,tz": a camera at (x,y,z) looking at (tx,ty,tz); refrax::Error when malformed.
+FlyCamera parseLookAt(const std::string& text);
 }  // namespace refrax
