@@ -66,6 +66,18 @@ Box hostProxyBox(const float* g) {
   return {float(mu.x - e.x), float(mu.y - e.y), float(mu.z - e.z), float(mu.x + e.x), float(mu.y + e.y), float(mu.z + e.z)};
 }
 
+// Rays from the host: a NaN or zero direction would turn into NaN colours and gradients.
+void validateRays(const std::vector<GpuRay>& rays) {
+  for (size_t i = 0; i < rays.size(); i++) {
+    const GpuRay& r = rays[i];
+    bool finite = std::isfinite(r.tmin) && std::isfinite(r.tmax);
+    for (int a = 0; a < 3; a++) finite = finite && std::isfinite(r.origin[a]) && std::isfinite(r.dir[a]);
+    if (!finite) fail("ray " + std::to_string(i) + " has a non-finite origin, direction or range");
+    if (r.dir[0] == 0 && r.dir[1] == 0 && r.dir[2] == 0) fail("ray " + std::to_string(i) + " has a zero direction");
+    if (r.tmin < 0 || r.tmax < r.tmin) fail("ray " + std::to_string(i) + " has an invalid range [tmin, tmax]");
+  }
+}
+
 TracePush tracePush(uint32_t count, const TraceOptions& o) {
   TracePush push{};
   for (int c = 0; c < 3; c++) push.background[c] = o.background[c];
@@ -175,6 +187,7 @@ void cmdTraceBackward(VkCommandBuffer cb, GaussianTracer& tracer, const Gaussian
 std::vector<GpuTraceResult> traceGaussians(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
                                            const DeviceGaussians& gaussians, const std::vector<GpuRay>& rays, const TraceOptions& options) {
   if (rays.empty()) return {};
+  validateRays(rays);
   Buffer rayBuf = createBufferFrom(ctx, rays);
   Buffer resultBuf = createBuffer(ctx, rays.size() * sizeof(GpuTraceResult));
   fillBuffer(ctx, resultBuf, 0x7FC00000u);  // NaN: a result the shader did not write shows
@@ -191,6 +204,7 @@ GaussianGradients traceGaussiansBackward(Context& ctx, GaussianTracer& tracer, c
     if (!std::isfinite(v)) fail("traceGaussiansBackward: non-finite loss gradient");
   GaussianGradients out;
   if (rays.empty()) return out;
+  validateRays(rays);
   Buffer rayBuf = createBufferFrom(ctx, rays);
   Buffer fwdBuf = createBufferFrom(ctx, forward);
   Buffer lossBuf = createBufferFrom(ctx, dLoss);

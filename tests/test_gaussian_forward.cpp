@@ -133,9 +133,9 @@ GPU_TEST_CASE("water removal: straight camera rays through the Gaussians match t
   GaussianTracer tracer = createGaussianTracer(ctx);
   GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
   std::uniform_real_distribution<float> U(-0.3f, 0.3f);
-  float eye[3] = {U(rng), -1.5f, 1.1f}, target[3] = {U(rng), U(rng), -0.4f};
-  PinholeCamera cam = lookAtCamera(eye, target, 0.4f, 48, 40);
-  auto rays = cameraRays(cam, 48, 40);
+  FlyCamera cam;
+  lookAt(cam, {U(rng), -1.5f, 1.1f}, {U(rng), U(rng), -0.4f});
+  auto rays = cameraRays(toGpuCamera(cam, 48, 40), 48, 40);
   TraceOptions opt;
   opt.background[2] = 0.25f;
   auto gpu = traceGaussians(ctx, tracer, proxies, dev, rays, opt);
@@ -161,6 +161,11 @@ GPU_TEST_CASE("Gaussian tracer refuses bad input with one clear error") {
   CHECK_THROWS_WITH_AS(proxyKindFor("boxes", ctx.caps), doctest::Contains("unknown Gaussian proxy"), Error);
   CHECK(proxyKindFor("instanced", ctx.caps) == ProxyKind::InstancedUnitBox);
   CHECK(proxyKindFor("aabb", ctx.caps) == ProxyKind::AabbBlas);
+  auto badRays = raysIntoVolume(rng, 4);
+  badRays[2].dir[0] = badRays[2].dir[1] = badRays[2].dir[2] = 0.0f;
+  CHECK_THROWS_WITH_AS(traceGaussians(ctx, tracer, proxies, dev, badRays), doctest::Contains("zero direction"), Error);
+  badRays[2].dir[2] = std::nanf("");
+  CHECK_THROWS_WITH_AS(traceGaussians(ctx, tracer, proxies, dev, badRays), doctest::Contains("non-finite"), Error);
   GaussianSet bad = set;
   bad.at(3)[2] = std::nanf("");
   CHECK_THROWS_AS(validateGaussians(bad, "test"), Error);

@@ -185,8 +185,10 @@ int runBenchTracer(const cli::Args& args) {
   std::printf("backward atomics: %s\n\n", ctx->caps.floatAtomicAdd ? "float atomicAdd" : "compare-and-swap loop");
   nlohmann::json report = {{"device", ctx->caps.name}, {"driver", ctx->caps.driver}, {"rays", nrays}, {"k", K}, {"sh_degree", shDegree}, {"runs", runs}};
 
-  float eye[3] = {0.f, -2.0f, 1.2f}, target[3] = {0.f, 0.f, -0.5f};  // the probe's aabb camera
-  auto rays = cameraRays(lookAtCamera(eye, target, 0.36f, size, size), size, size, 0.0f, 100.0f);
+  FlyCamera cam;  // the probe's aabb camera
+  lookAt(cam, {0.f, -2.0f, 1.2f}, {0.f, 0.f, -0.5f});
+  cam.tanHalfFovY = 0.36f;
+  auto rays = cameraRays(toGpuCamera(cam, size, size), size, size, 0.0f, 100.0f);
   GaussianTracer tracer = createGaussianTracer(*ctx, K);
   bool allMeet = true;
   for (int n : counts) {

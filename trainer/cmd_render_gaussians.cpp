@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/camera_rays.h"
+#include "engine/fly_camera.h"
 #include "engine/error.h"
 #include "engine/gaussian_trace.h"
 #include "engine/io/image_io.h"
@@ -37,13 +38,13 @@ int runRenderGaussians(const cli::Args& args) {
   if (args.positional.size() != 1) fail("refrax render-gaussians needs one Gaussian PLY file");
   if (!args.has("out")) fail("refrax render-gaussians needs --out FILE.png");
   GaussianSet set = readGaussiansPly(args.positional[0]);
-  auto eye = parseFloats(args.get("eye", "0,-2,1.2"), 3, "eye");
-  auto target = parseFloats(args.get("target", "0,0,-0.5"), 3, "target");
+  FlyCamera cam = parseLookAt(args.get("camera", "0,-2,1.2,0,0,-0.5"));
   auto bg = parseFloats(args.get("background", "0,0,0"), 3, "background");
   long width = args.getInt("width", 392), height = args.getInt("height", 392);
   if (width <= 0 || height <= 0 || width > 16384 || height > 16384) fail("--width/--height must be between 1 and 16384");
   double tanHalf = args.getDouble("tan-half-fov", 0.36);
   if (!(tanHalf > 0 && tanHalf < 100)) fail("--tan-half-fov must be positive");
+  cam.tanHalfFovY = float(tanHalf);
   long degree = args.getInt("sh-degree", 3);
   if (degree < 0 || degree > 3) fail("--sh-degree must be 0..3");
 
@@ -52,11 +53,10 @@ int runRenderGaussians(const cli::Args& args) {
   ProxyKind kind = proxyKindFor(args.get("proxy", "auto"), ctx->caps);
   DeviceGaussians dev = uploadGaussians(*ctx, set);
   GaussianProxies proxies = buildGaussianProxies(*ctx, tracer, dev, set, kind, false);
-  PinholeCamera cam = lookAtCamera(eye.data(), target.data(), float(tanHalf), uint32_t(width), uint32_t(height));
   TraceOptions opt;
   for (int c = 0; c < 3; c++) opt.background[c] = bg[c];
   opt.shDegree = uint32_t(degree);
-  auto results = traceGaussians(*ctx, tracer, proxies, dev, cameraRays(cam, uint32_t(width), uint32_t(height)), opt);
+  auto results = traceGaussians(*ctx, tracer, proxies, dev, cameraRays(toGpuCamera(cam, uint32_t(width), uint32_t(height)), uint32_t(width), uint32_t(height)), opt);
   Image img;
   img.width = int(width);
   img.height = int(height);
@@ -75,9 +75,8 @@ int runRenderGaussians(const cli::Args& args) {
 
 std::vector<cli::Option> renderOptions() {
   std::vector<cli::Option> o = {{"out", "FILE", "PNG to write", ""},
-                                {"eye", "X,Y,Z", "camera position", "0,-2,1.2"},
-                                {"target", "X,Y,Z", "point the camera looks at (world up is +z)", "0,0,-0.5"},
-                                {"tan-half-fov", "T", "tangent of half the horizontal field of view", "0.36"},
+                                {"camera", "x,y,z,tx,ty,tz", "camera position and target (world up is +z)", "0,-2,1.2,0,0,-0.5"},
+                                {"tan-half-fov", "T", "tangent of half the vertical field of view", "0.36"},
                                 {"width", "PIXELS", "image width", "392"},
                                 {"height", "PIXELS", "image height", "392"},
                                 {"background", "R,G,B", "background colour", "0,0,0"},
