@@ -1,0 +1,81 @@
+#include "engine/image_loss.h"
+
+#include "engine/error.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
+
+namespace refrax {
+namespace {
+
+constexpr uint32_t kGroup = 256;  // local size of every loss shader
+
+struct ImagePush {
+  uint32_t width, height, channels, count;
+};
+struct ReducePush {
+  uint32_t count;
+  float scaleX, scaleY, bias;
+};
+struct DensityPush {
+  uint32_t count;
+  float scale;
+};
+
+}  // namespace
+
+LossPipelines createLossPipelines(Context& ctx) {
+  LossPipelines p;
+  p.moments = createComputePipeline(ctx, "image_loss_moments", {kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(ImagePush));
+  p.ssim = createComputePipeline(ctx, "image_loss_ssim", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                                 sizeof(ImagePush));
+  p.slopes = createComputePipeline(ctx, "image_loss_slopes", {kStorageBuffer, kStorageBuffer}, sizeof(ImagePush));
+  p.grad = createComputePipeline(ctx, "image_loss_grad", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(ImagePush));
+  p.reduce = createComputePipeline(ctx, "reduce_sums", {kStorageBuffer, kStorageBuffer}, sizeof(ReducePush));
+  p.density = createComputePipeline(ctx, "density_regularizer", {kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(DensityPush));
+  return p;
+}
+
+void prepareImageLossScratch(Context& ctx, ImageLossScratch& s, uint32_t width, uint32_t height, uint32_t channels) {
+  if (width == 0 || height == 0 || channels == 0) fail("image loss: empty image (" + std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(channels) + ")");
+  if (s.moments && s.width == width && s.height == height && s.channels == channels) return;
+  VkDeviceSize count = VkDeviceSize(width) * height * channels;
+  s.width = width;
+  s.height = height;
+  s.channels = channels;
+  s.moments = createBuffer(ctx, 5 * count * sizeof(float));
+  s.slopes = createBuffer(ctx, 3 * count * sizeof(float));
+  s.partials = createBuffer(ctx, groupsFor(uint32_t(count), kGroup) * 2 * sizeof(float));
+}
+
+void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScratch& s, const Buffer& rendered, const Buffer& target,
+                  const Buffer& grad, const Buffer& result) {
+  ImagePush push{s.width, s.height, s.channels, s.width * s.height * s.channels};
+  uint32_t groups = groupsFor(push.count, kGroup);
+  cmdBarrier(cb);
+  cmdDispatch(cb, p.moments, {bind(rendered), bind(target), bind(s.moments)}, &push, groups);
+  cmdBarrier(cb);
+  cmdDispatch(cb, p.ssim, {bind(rendered), bind(target), bind(s.moments), bind(s.slopes), bind(s.partials)}, &push, groups);
+  cmdBarrier(cb);
+  cmdDispatch(cb, p.slopes, {bind(s.slopes), bind(s.moments)}, &push, groups);
+  // L = 0.8 * sum|x-y| / N + 0.2 * (1 - sum S / N)
+  float n = float(push.count);
+  ReducePush reduce{groups, 0.8f / n, -0.2f / n, 0.2f};
+  cmdDispatch(cb, p.reduce, {bind(s.partials), bind(result)}, &reduce, 1);
+  cmdBarrier(cb);
+  cmdDispatch(cb, p.grad, {bind(rendered), bind(target), bind(s.moments), bind(grad)}, &push, groups);
+}
+
+uint32_t densityPartialCount(uint32_t count) { return groupsFor(count, kGroup); }
+
+void cmdDensityRegularizer(VkCommandBuffer cb, const LossPipelines& p, const Buffer& logits, uint32_t count, const Buffer& gradLogits,
+                           const Buffer& partials, const Buffer& result, float weight) {
+  if (count == 0) return;
+  DensityPush push{count, weight / float(count)};
+  cmdBarrier(cb);
+  cmdDispatch(cb, p.density, {bind(logits), bind(gradLogits), bind(partials)}, &push, densityPartialCount(count));
+  cmdBarrier(cb);
+  ReducePush reduce{densityPartialCount(count), weight / float(count), 0.0f, 0.0f};
+  cmdDispatch(cb, p.reduce, {bind(partials), bind(result)}, &reduce, 1);
+}
+
+}  // namespace refrax
