@@ -1,0 +1,47 @@
+#include "engine/io/image_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+
+#include "engine/error.h"
+#include "engine/io/atomic_file.h"
+
+namespace refrax {
+
+Image readPng(const std::string& path) {
+  std::string bytes = readFile(path);
+  int w = 0, h = 0, c = 0;
+  unsigned char* data =
+      stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()), int(bytes.size()), &w, &h, &c, 0);
+  if (!data) fail("cannot decode image " + path + ": " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown format"));
+  Image img;
+  img.width = w;
+  img.height = h;
+  img.channels = c;
+  img.pixels.resize(size_t(w) * h * c);
+  for (size_t i = 0; i < img.pixels.size(); i++) img.pixels[i] = data[i] / 255.0f;
+  stbi_image_free(data);
+  return img;
+}
+
+void writePng(const std::string& path, const Image& image) {
+  if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
+      image.pixels.size() != size_t(image.width) * image.height * image.channels)
+    fail("writePng: malformed image for " + path);
+  std::vector<unsigned char> bytes(image.pixels.size());
+  for (size_t i = 0; i < bytes.size(); i++) {
+    float v = image.pixels[i];
+    v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+    bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+  }
+  std::string encoded;
+  auto sink = [](void* ctx, void* data, int size) { static_cast<std::string*>(ctx)->append(static_cast<char*>(data), size); };
+  if (!stbi_write_png_to_func(sink, &encoded, image.width, image.height, image.channels, bytes.data(),
+                              image.width * image.channels))
+    fail("cannot encode PNG " + path);
+  writeFileAtomic(path, encoded.data(), encoded.size());
+}
+
+}  // namespace refrax

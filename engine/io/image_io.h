@@ -1,0 +1,19 @@
+#pragma once
+// PNG images as float channels in [0, 1] (the stored 8-bit values / 255, no gamma
+// conversion: training compares stored sRGB values, as NeRF/3DGS do).
+#include <string>
+#include <vector>
+
+namespace refrax {
+
+struct Image {
+  int width = 0, height = 0, channels = 0;  // channels 1..4
+  std::vector<float> pixels;                // row-major, interleaved
+  float& at(int x, int y, int c) { return pixels[(size_t(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c) const { return pixels[(size_t(y) * width + x) * channels + c]; }
+};
+
+Image readPng(const std::string& path);                 // any 8-bit PNG (or JPEG) stb reads; clear error otherwise
+void writePng(const std::string& path, const Image& image);  // values clamped to [0,1], rounded; written atomically
+
+}  // namespace refrax

@@ -1,0 +1,91 @@
+// File IO: atomic writes, PNG, .npy and JSON round trips and their errors on bad input.
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+#include "engine/error.h"
+#include "engine/io/atomic_file.h"
+#include "engine/io/image_io.h"
+#include "engine/io/json_io.h"
+#include "engine/io/npy.h"
+#include "tests/gpu_test.h"
+
+using namespace refrax;
+namespace fs = std::filesystem;
+
+namespace {
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("refrax-test-" + std::to_string(test::freshSeed()));
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+}  // namespace
+
+TEST_CASE("atomic writes leave no temporary files and replace the target whole") {
+  TempDir dir;
+  writeTextAtomic(dir / "a.txt", "first");
+  writeTextAtomic(dir / "a.txt", "second, longer");
+  CHECK(readFile(dir / "a.txt") == "second, longer");
+  int files = 0;
+  for (auto& e : fs::directory_iterator(dir.path)) files += e.is_regular_file();
+  CHECK(files == 1);
+  CHECK_THROWS_AS(writeTextAtomic(dir / "no-such-dir/a.txt", "x"), Error);
+  CHECK_THROWS_AS(readFile(dir / "missing.txt"), Error);
+}
+
+TEST_CASE("PNG round trip keeps 8-bit values exactly") {
+  TempDir dir;
+  std::mt19937 rng(test::freshSeed());
+  for (int channels : {1, 3, 4}) {
+    Image img;
+    img.width = 17;
+    img.height = 9;
+    img.channels = channels;
+    img.pixels.resize(size_t(17) * 9 * channels);
+    for (auto& v : img.pixels) v = float(rng() % 256) / 255.0f;
+    writePng(dir / "img.png", img);
+    Image back = readPng(dir / "img.png");
+    CHECK(back.width == 17);
+    CHECK(back.height == 9);
+    CHECK(back.channels == channels);
+    CHECK(back.pixels == img.pixels);
+  }
+  writeTextAtomic(dir / "bad.png", "not a png at all");
+  CHECK_THROWS_AS(readPng(dir / "bad.png"), Error);
+  CHECK_THROWS_AS(readPng(dir / "missing.png"), Error);
+}
+
+TEST_CASE(".npy round trip and malformed files") {
+  TempDir dir;
+  NpyArray a;
+  a.shape = {3, 17};
+  for (int i = 0; i < 51; i++) a.data.push_back(i * 0.25 - 3);
+  writeNpy(dir / "a.npy", a);
+  NpyArray b = readNpy(dir / "a.npy");
+  CHECK(b.shape == a.shape);
+  CHECK(b.data == a.data);
+  writeNpy(dir / "d.npy", a, true);
+  CHECK(readNpy(dir / "d.npy").data == a.data);
+  std::string bytes = readFile(dir / "a.npy");
+  writeFileAtomic(dir / "trunc.npy", bytes.data(), bytes.size() - 4);
+  CHECK_THROWS_WITH_AS(readNpy(dir / "trunc.npy"), doctest::Contains("the shape needs"), Error);
+  writeTextAtomic(dir / "junk.npy", "hello");
+  CHECK_THROWS_AS(readNpy(dir / "junk.npy"), Error);
+}
+
+TEST_CASE("JSON errors name the file and the field") {
+  TempDir dir;
+  writeTextAtomic(dir / "bad.json", "{\"a\": [1, 2,, 3]}");
+  CHECK_THROWS_WITH_AS(readJson(dir / "bad.json"), doctest::Contains("malformed JSON"), Error);
+  writeJson(dir / "ok.json", {{"x", 1.5}, {"s", "text"}});
+  auto j = readJson(dir / "ok.json");
+  CHECK(requireNumber(j, "x", "ok.json") == 1.5);
+  CHECK_THROWS_WITH_AS(requireNumber(j, "s", "ok.json"), doctest::Contains("'s' must be a number"), Error);
+  CHECK_THROWS_WITH_AS(requireField(j, "y", "ok.json"), doctest::Contains("missing 'y'"), Error);
+}
