@@ -1,17 +1,25 @@
 #include "engine/image_loss.h"
 
 #include "engine/error.h"
+#include "engine/shared_math.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
+#include "engine/vk_timer.h"
+
+namespace refrax::f32 {
+#include "image_loss.glsl"
+}
 
 namespace refrax {
 namespace {
 
-constexpr uint32_t kGroup = 256;  // local size of every loss shader
+constexpr uint32_t kGroup = 256;  // local size of density_regularizer
 
 struct ImagePush {
   uint32_t width, height, channels, count;
+  float window[12];  // the SSIM window's 11 taps (and one pad)
 };
+constexpr uint32_t kSumChunk = 64;  // elements per invocation of sum_pairs
 struct ReducePush {
   uint32_t count;
   float scaleX, scaleY, bias;
@@ -25,9 +33,12 @@ struct DensityPush {
 
 LossPipelines createLossPipelines(Context& ctx) {
   LossPipelines p;
-  p.moments = createComputePipeline(ctx, "image_loss_moments", {kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(ImagePush));
-  p.ssim = createComputePipeline(ctx, "image_loss_ssim", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+  p.moments = createComputePipeline(ctx, "image_loss_moments", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                                    sizeof(ImagePush));
+  p.ssim = createComputePipeline(ctx, "image_loss_ssim",
+                                 {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                                  sizeof(ImagePush));
+  p.sum = createComputePipeline(ctx, "sum_pairs", {kStorageBuffer, kStorageBuffer}, sizeof(uint32_t));
   p.slopes = createComputePipeline(ctx, "image_loss_slopes", {kStorageBuffer, kStorageBuffer}, sizeof(ImagePush));
   p.grad = createComputePipeline(ctx, "image_loss_grad", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(ImagePush));
   p.reduce = createComputePipeline(ctx, "reduce_sums", {kStorageBuffer, kStorageBuffer}, sizeof(ReducePush));
@@ -42,27 +53,41 @@ void prepareImageLossScratch(Context& ctx, ImageLossScratch& s, uint32_t width, 
   s.width = width;
   s.height = height;
   s.channels = channels;
-  s.moments = createBuffer(ctx, 5 * count * sizeof(float));
-  s.slopes = createBuffer(ctx, 3 * count * sizeof(float));
-  s.partials = createBuffer(ctx, groupsFor(uint32_t(count), kGroup) * 2 * sizeof(float));
+  s.moments = createBuffer(ctx, 4 * count * sizeof(float));
+  s.cross = createBuffer(ctx, count * sizeof(float));
+  s.slopes = createBuffer(ctx, 4 * count * sizeof(float));
+  s.terms = createBuffer(ctx, 2 * count * sizeof(float));
+  s.partials = createBuffer(ctx, groupsFor(uint32_t(count), kSumChunk) * 2 * sizeof(float));
 }
 
 void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScratch& s, const Buffer& rendered, const Buffer& target,
-                  const Buffer& grad, const Buffer& result) {
-  ImagePush push{s.width, s.height, s.channels, s.width * s.height * s.channels};
-  uint32_t groups = groupsFor(push.count, kGroup);
+                  const Buffer& grad, const Buffer& result, GpuTimer* timer) {
+  auto stamp = [&](const char* stage) {
+    if (timer) cmdTimerStamp(cb, *timer, stage);
+  };
+  ImagePush push{s.width, s.height, s.channels, s.width * s.height * s.channels, {}};
+  for (int k = -f32::kSsimRadius; k <= f32::kSsimRadius; k++) push.window[k + f32::kSsimRadius] = f32::ssimWindowWeight(k);
+  // x over a row's elements, y over rows (shaders/include/image_loss_pass.glsl)
+  const uint32_t gx = groupsFor(s.width * s.channels, 64), gy = s.height;
   cmdBarrier(cb);
-  cmdDispatch(cb, p.moments, {bind(rendered), bind(target), bind(s.moments)}, &push, groups);
+  cmdDispatch(cb, p.moments, {bind(rendered), bind(target), bind(s.moments), bind(s.cross)}, &push, gx, gy);
+  stamp("moments (horizontal)");
   cmdBarrier(cb);
-  cmdDispatch(cb, p.ssim, {bind(rendered), bind(target), bind(s.moments), bind(s.slopes), bind(s.partials)}, &push, groups);
+  cmdDispatch(cb, p.ssim, {bind(rendered), bind(target), bind(s.moments), bind(s.cross), bind(s.slopes), bind(s.terms)}, &push, gx, gy);
+  stamp("ssim map (vertical)");
   cmdBarrier(cb);
-  cmdDispatch(cb, p.slopes, {bind(s.slopes), bind(s.moments)}, &push, groups);
+  uint32_t partials = groupsFor(push.count, kSumChunk);
+  cmdDispatch(cb, p.sum, {bind(s.terms), bind(s.partials)}, &push.count, groupsFor(partials, 64));
+  cmdDispatch(cb, p.slopes, {bind(s.slopes), bind(s.moments)}, &push, gx, gy);
+  stamp("slopes (horizontal)");
   // L = 0.8 * sum|x-y| / N + 0.2 * (1 - sum S / N)
   float n = float(push.count);
-  ReducePush reduce{groups, 0.8f / n, -0.2f / n, 0.2f};
+  ReducePush reduce{partials, 0.8f / n, -0.2f / n, 0.2f};
   cmdDispatch(cb, p.reduce, {bind(s.partials), bind(result)}, &reduce, 1);
+  stamp("sums");
   cmdBarrier(cb);
-  cmdDispatch(cb, p.grad, {bind(rendered), bind(target), bind(s.moments), bind(grad)}, &push, groups);
+  cmdDispatch(cb, p.grad, {bind(rendered), bind(target), bind(s.moments), bind(grad)}, &push, gx, gy);
+  stamp("gradient (vertical)");
 }
 
 uint32_t densityPartialCount(uint32_t count) { return groupsFor(count, kGroup); }

@@ -15,12 +15,14 @@
 namespace refrax {
 
 struct Context;
+struct GpuTimer;
 
 constexpr float kDensityRegularizerWeight = 0.007f;
 
 struct LossPipelines {
   ComputePipeline moments;   // pass 1: horizontal window sums of x, y, x^2, y^2, xy
-  ComputePipeline ssim;      // pass 2: vertical sums, SSIM map, its slopes, partial sums
+  ComputePipeline ssim;      // pass 2: vertical sums, SSIM map, its slopes, |x - y|
+  ComputePipeline sum;       // partial sums of the SSIM map and |x - y|
   ComputePipeline slopes;    // pass 3: horizontal sums of the slopes
   ComputePipeline grad;      // pass 4: vertical sums, dL/dx
   ComputePipeline reduce;    // partial sums -> result vec4
@@ -28,12 +30,14 @@ struct LossPipelines {
 };
 LossPipelines createLossPipelines(Context& ctx);
 
-// Scratch for one image size (8 floats per element plus one vec2 per workgroup).
+// Scratch for one image size (11 floats per element plus one vec2 per 64).
 struct ImageLossScratch {
   uint32_t width = 0, height = 0, channels = 0;
-  Buffer moments;   // 5 planes; reused for the 3 blurred slope planes
-  Buffer slopes;    // 3 planes
-  Buffer partials;  // vec2 per workgroup
+  Buffer moments;   // vec4 (x, y, x^2, y^2) window sums; reused for the blurred slopes
+  Buffer cross;     // float xy window sums
+  Buffer slopes;    // vec4 (dS/dmu1, dS/dexx, dS/dexy, 0)
+  Buffer terms;     // vec2 (|x - y|, SSIM map) to be summed
+  Buffer partials;  // vec2 per 64 elements
 };
 // (Re)allocates when the size differs; a no-op otherwise.
 void prepareImageLossScratch(Context& ctx, ImageLossScratch& scratch, uint32_t width, uint32_t height, uint32_t channels);
@@ -41,8 +45,9 @@ void prepareImageLossScratch(Context& ctx, ImageLossScratch& scratch, uint32_t w
 // Records the four passes and the reduction (with barriers between them, and one before
 // the first, so the inputs may come from the previous dispatch). `grad` receives
 // dL/d(rendered) (width * height * channels floats), `result` the vec4 described above.
+// With a timer (started by the caller), each pass is stamped.
 void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScratch& scratch, const Buffer& rendered,
-                  const Buffer& target, const Buffer& grad, const Buffer& result);
+                  const Buffer& target, const Buffer& grad, const Buffer& result, GpuTimer* timer = nullptr);
 
 // Workgroups' partial sums the density regulariser needs for `count` logits (vec2 each).
 uint32_t densityPartialCount(uint32_t count);

@@ -117,6 +117,9 @@ GPU_TEST_CASE("image loss on the device matches the double reference (loss and d
     fillBuffer(ctx, rb, kNaN);
     fillBuffer(ctx, scratch.moments, kNaN);
     fillBuffer(ctx, scratch.slopes, kNaN);
+    fillBuffer(ctx, scratch.cross, kNaN);
+    fillBuffer(ctx, scratch.terms, kNaN);
+    fillBuffer(ctx, scratch.partials, kNaN);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdImageLoss(cb, pipes, scratch, xb, yb, gb, rb); });
     auto result = downloadVector<float>(ctx, rb, 4);
     auto grad = downloadVector<float>(ctx, gb, p.rendered.size());
