@@ -69,8 +69,15 @@ AdamGroup createAdamGroup(Context& ctx, const std::string& name, const LearningR
 
 void cmdAdamStep(VkCommandBuffer cb, const AdamPipelines& p, AdamGroup& g, const Buffer& params, const Buffer& grads, uint32_t offset,
                  bool clearGradients, const AdamSettings& s) {
+  if (g.count() == 0) {
+    g.step++;
+    return;
+  }
+  const VkDeviceSize end = (VkDeviceSize(offset) + g.count()) * sizeof(float);
+  if (params.size < end || grads.size < end || g.m.size < VkDeviceSize(g.count()) * 4 || g.v.size < VkDeviceSize(g.count()) * 4)
+    fail("Adam group '" + g.name + "': the parameter or gradient buffer is smaller than " + std::to_string(g.count()) + " floats from offset " +
+         std::to_string(offset));
   g.step++;
-  if (g.count() == 0) return;
   double lr = g.lr.at(g.step);
   double bc1 = 1.0 - std::pow(s.beta1, g.step), bc2 = 1.0 - std::pow(s.beta2, g.step);
   StepPush push{g.count(),          offset, clearGradients ? 1u : 0u, float(s.beta1), float(s.beta2), float(s.epsilon),
@@ -82,6 +89,8 @@ void cmdAdamStep(VkCommandBuffer cb, const AdamPipelines& p, AdamGroup& g, const
 void cmdGatherRows(VkCommandBuffer cb, const AdamPipelines& p, const Buffer& src, const Buffer& dst, const Buffer& sourceRows, uint32_t rows,
                    uint32_t rowWidth) {
   if (rows == 0) return;
+  if (dst.size < VkDeviceSize(rows) * rowWidth * 4 || sourceRows.size < VkDeviceSize(rows) * 4)
+    fail("gather rows: the destination or row list is smaller than " + std::to_string(rows) + " rows");
   GatherPush push{rows, rowWidth};
   cmdBarrier(cb);
   cmdDispatch(cb, p.gather, {bind(src), bind(dst), bind(sourceRows)}, &push, groupsFor(rows * rowWidth, 256));

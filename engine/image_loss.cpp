@@ -66,6 +66,11 @@ void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScr
     if (timer) cmdTimerStamp(cb, *timer, stage);
   };
   ImagePush push{s.width, s.height, s.channels, s.width * s.height * s.channels, {}};
+  if (!s.moments) fail("image loss: the scratch was not prepared (prepareImageLossScratch)");
+  const VkDeviceSize bytes = VkDeviceSize(push.count) * sizeof(float);
+  if (rendered.size < bytes || target.size < bytes || grad.size < bytes || result.size < 16)
+    fail("image loss: a buffer is smaller than the " + std::to_string(s.width) + "x" + std::to_string(s.height) + "x" +
+         std::to_string(s.channels) + " image (or the 16-byte result)");
   for (int k = -f32::kSsimRadius; k <= f32::kSsimRadius; k++) push.window[k + f32::kSsimRadius] = f32::ssimWindowWeight(k);
   // x over a row's elements, y over rows (shaders/include/image_loss_pass.glsl)
   const uint32_t gx = groupsFor(s.width * s.channels, 64), gy = s.height;
@@ -95,6 +100,9 @@ uint32_t densityPartialCount(uint32_t count) { return groupsFor(count, kGroup); 
 void cmdDensityRegularizer(VkCommandBuffer cb, const LossPipelines& p, const Buffer& logits, uint32_t count, const Buffer& gradLogits,
                            const Buffer& partials, const Buffer& result, float weight) {
   if (count == 0) return;
+  if (logits.size < VkDeviceSize(count) * 4 || gradLogits.size < VkDeviceSize(count) * 4 ||
+      partials.size < VkDeviceSize(densityPartialCount(count)) * 8 || result.size < 16)
+    fail("density regulariser: a buffer is smaller than " + std::to_string(count) + " logits need");
   DensityPush push{count, weight / float(count)};
   cmdBarrier(cb);
   cmdDispatch(cb, p.density, {bind(logits), bind(gradLogits), bind(partials)}, &push, densityPartialCount(count));

@@ -45,14 +45,16 @@ void prepareImageLossScratch(Context& ctx, ImageLossScratch& scratch, uint32_t w
 // Records the four passes and the reduction (with barriers between them, and one before
 // the first, so the inputs may come from the previous dispatch). `grad` receives
 // dL/d(rendered) (width * height * channels floats), `result` the vec4 described above.
-// With a timer (started by the caller), each pass is stamped.
+// With a timer (started by the caller), each pass is stamped. Buffers too small for the
+// scratch's image size are refused (refrax::Error) before anything is recorded.
 void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScratch& scratch, const Buffer& rendered,
                   const Buffer& target, const Buffer& grad, const Buffer& result, GpuTimer* timer = nullptr);
 
 // Workgroups' partial sums the density regulariser needs for `count` logits (vec2 each).
 uint32_t densityPartialCount(uint32_t count);
 // Records the regulariser: gradLogits[i] += weight / count * d(sigmoid^2)/dlogit, result
-// as described above. `partials` holds densityPartialCount(count) vec2.
+// as described above. `partials` holds densityPartialCount(count) vec2. Nothing for count 0.
+// Buffers too small for the sizes given are refused (refrax::Error) before recording.
 void cmdDensityRegularizer(VkCommandBuffer cb, const LossPipelines& p, const Buffer& logits, uint32_t count,
                            const Buffer& gradLogits, const Buffer& partials, const Buffer& result,
                            float weight = kDensityRegularizerWeight);

@@ -74,6 +74,10 @@ GPU_TEST_CASE("Adam on the device matches the double reference over several step
     // an actual move of about lr per step
     CHECK(std::abs(back[offset + 100] - params[offset + 100]) > 1e-4);
   }
+  // a parameter buffer too small for the group at this offset is refused, the step not taken
+  Buffer small = createBuffer(ctx, (offset + rows * width - 1) * 4);
+  CHECK_THROWS_AS(submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdAdamStep(cb, pipes, group, small, gb, offset); }), Error);
+  CHECK(group.step == 6);
 }
 
 GPU_TEST_CASE("remapping Adam rows carries moments along, zeroes new rows, refuses bad rows") {

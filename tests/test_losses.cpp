@@ -139,6 +139,12 @@ GPU_TEST_CASE("image loss on the device matches the double reference (loss and d
     INFO("worst gradient error " << worst << " of max " << maxRef);
     CHECK(bad == 0);
   }
+  // buffers smaller than the prepared image size are refused before recording
+  Buffer tiny = createBuffer(ctx, 16), rb = createBuffer(ctx, 16);
+  CHECK_THROWS_AS(submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdImageLoss(cb, pipes, scratch, tiny, tiny, tiny, rb); }), Error);
+  ImageLossScratch unprepared;
+  CHECK_THROWS_AS(submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdImageLoss(cb, pipes, unprepared, tiny, tiny, tiny, rb); }), Error);
+  CHECK_THROWS_AS(prepareImageLossScratch(ctx, unprepared, 0, 4, 3), Error);
 }
 
 GPU_TEST_CASE("density regulariser on the device adds the reference gradient and gives the reference value") {
