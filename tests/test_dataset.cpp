@@ -13,6 +13,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "engine/dataset/dataset.h"
+#include "engine/dataset/ground_truth.h"
 #include "engine/dataset/scene_bounds.h"
 #include "engine/error.h"
 #include "engine/io/image_io.h"
@@ -412,4 +413,31 @@ TEST_CASE("scene bounds from cameras looking straight down: footprint, refracted
   CHECK(errorOf([&] { surfaceDomainFromCameras({downCamera(0, 0, -2)}, h); }).find("not above") != std::string::npos);
   CHECK_THROWS_AS(gaussianBoxFromRefractedFrusta(cams, h, ior, 0.0), Error);
   CHECK_THROWS_AS(sceneExtent({}), Error);
+}
+
+TEST_CASE("ground-truth height map named in water.json loads as a height grid") {
+  TempDir dir;
+  std::mt19937 rng(test::freshSeed());
+  writeImage(dir.str() + "/a.png", testImage(8, 6, 3, 0));
+  writeText(dir.path / "transforms_train.json", transformsJson("\"camera_angle_x\": 0.5", {{"a", randomPose(rng)}}));
+  NpyArray h;
+  h.shape = {3, 4};
+  for (int i = 0; i < 12; i++) h.data.push_back(0.1 * i);
+  writeNpy(dir.str() + "/gt_height.npy", h, true);
+  writeText(dir.path / "water.json", R"({"domain": [-1, -1, 1, 1], "height_map": "gt_height.npy", "height_map_domain": [0, 0, 3, 2]})");
+  auto g = loadGroundTruthSurface(loadDataset(dir.str()));
+  REQUIRE(g.has_value());
+  CHECK(g->nx == 4);
+  CHECK(g->ny == 3);
+  CHECK(g->xMax == 3.0);
+  CHECK(sampleHeight(*g, 1.0, 1.0) == doctest::Approx(0.5));  // column 1, row 1: 0.1 * (4 + 1)
+  CHECK(sampleHeight(*g, 1.5, 0.5) == doctest::Approx(0.5 * (0.15 + 0.55)));
+  writeText(dir.path / "water.json", R"({"height_map": "gt_height.npy"})");
+  CHECK(errorOf([&] { loadGroundTruthSurface(loadDataset(dir.str())); }).find("needs 'height_map_domain'") != std::string::npos);
+  h.shape = {12};
+  writeNpy(dir.str() + "/gt_height.npy", h, true);
+  writeText(dir.path / "water.json", R"({"domain": [-1, -1, 1, 1], "height_map": "gt_height.npy"})");
+  CHECK(errorOf([&] { loadGroundTruthSurface(loadDataset(dir.str())); }).find("2D array") != std::string::npos);
+  writeText(dir.path / "water.json", R"({"ior": 1.2})");
+  CHECK(!loadGroundTruthSurface(loadDataset(dir.str())).has_value());
 }
