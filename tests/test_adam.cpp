@@ -112,6 +112,16 @@ GPU_TEST_CASE("remapping Adam rows carries moments along, zeroes new rows, refus
       if (mBack[i * width + k] != em || vBack[i * width + k] != ev) bad++;
     }
   CHECK(bad == 0);
+  // the gather itself, into a NaN-poisoned table (a skipped row would stay NaN)
+  Buffer src = createBufferFrom(ctx, m), dst = createBuffer(ctx, source.size() * width * 4), rowsBuf = createBufferFrom(ctx, source);
+  fillBuffer(ctx, dst, 0x7FC00000u);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdGatherRows(cb, pipes, src, dst, rowsBuf, uint32_t(source.size()), width); });
+  auto gathered = downloadVector<float>(ctx, dst, source.size() * width);
+  size_t badGather = 0;
+  for (size_t i = 0; i < source.size(); i++)
+    for (uint32_t k = 0; k < width; k++)
+      if (!(gathered[i * width + k] == (source[i] == kNewRow ? 0.0f : m[source[i] * width + k]))) badGather++;
+  CHECK(badGather == 0);
   CHECK_THROWS_AS(remapAdamRows(ctx, pipes, group, {0, uint32_t(source.size())}), Error);
   CHECK(group.rows == source.size());  // unchanged after the refusal
   remapAdamRows(ctx, pipes, group, {});
