@@ -1,5 +1,6 @@
 // Dataset loaders (Blender, LLFF, water.json) on tiny datasets written here, every bad input
 // giving one clear error, and the scene bounds derived from cameras against worked answers.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -440,4 +441,34 @@ TEST_CASE("ground-truth height map named in water.json loads as a height grid") 
   CHECK(errorOf([&] { loadGroundTruthSurface(loadDataset(dir.str())); }).find("2D array") != std::string::npos);
   writeText(dir.path / "water.json", R"({"ior": 1.2})");
   CHECK(!loadGroundTruthSurface(loadDataset(dir.str())).has_value());
+}
+
+TEST_CASE("refrax inspect loads a dataset and prints derived bounds, or one error line") {
+  TempDir dir;
+  glm::dmat4 down(1.0);  // looking straight down from z = 2
+  down[3] = glm::dvec4(0.5, 0, 2, 1);
+  glm::dmat4 down2 = down;
+  down2[3] = glm::dvec4(-0.5, 0.2, 2.1, 1);
+  writeImage(dir.str() + "/a.png", testImage(8, 6, 3, 0));
+  writeImage(dir.str() + "/b.png", testImage(8, 6, 3, 1));
+  writeText(dir.path / "transforms_train.json", transformsJson("\"camera_angle_x\": 0.8", {{"a", down}, {"b", down2}}));
+  writeText(dir.path / "water.json", R"({"ior": 1.1, "height": 0.0})");
+  auto r = test::runCli("inspect " + dir.str());
+  INFO(r.output);
+  CHECK(r.exitCode == 0);
+  CHECK(r.output.find("train    2 views, 8x6") != std::string::npos);
+  CHECK(r.output.find("surface domain") != std::string::npos);
+  CHECK(r.output.find("initial Gaussian box") != std::string::npos);
+  CHECK(r.output.find("ior 1.1000") != std::string::npos);
+  auto over = test::runCli("inspect " + dir.str() + " --ior 1.33 --domain -1,-1,1,1");
+  CHECK(over.output.find("ior 1.3300") != std::string::npos);
+  CHECK(over.output.find("x [-1.0000, 1.0000]") != std::string::npos);
+  auto bad = test::runCli("inspect " + dir.str() + " --domain 1,2,3");
+  CHECK(bad.exitCode != 0);
+  CHECK(bad.output.find("--domain expects four numbers") != std::string::npos);
+  fs::remove(dir.path / "b.png");
+  auto missing = test::runCli("inspect " + dir.str());
+  CHECK(missing.exitCode != 0);
+  CHECK(missing.output.find("/b does not exist (also tried .png") != std::string::npos);
+  CHECK(std::count(missing.output.begin(), missing.output.end(), '\n') == 1);  // one line
 }
