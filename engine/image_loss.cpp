@@ -19,6 +19,7 @@ struct ImagePush {
   uint32_t width, height, channels, count;
   float window[12];  // the SSIM window's 11 taps (and one pad)
 };
+constexpr uint32_t kBlockOutputs = 8;  // kBlock of image_loss_pass.glsl
 constexpr uint32_t kSumChunk = 64;  // elements per invocation of sum_pairs
 struct ReducePush {
   uint32_t count;
@@ -72,18 +73,20 @@ void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScr
     fail("image loss: a buffer is smaller than the " + std::to_string(s.width) + "x" + std::to_string(s.height) + "x" +
          std::to_string(s.channels) + " image (or the 16-byte result)");
   for (int k = -f32::kSsimRadius; k <= f32::kSsimRadius; k++) push.window[k + f32::kSsimRadius] = f32::ssimWindowWeight(k);
-  // x over a row's elements, y over rows (shaders/include/image_loss_pass.glsl)
-  const uint32_t gx = groupsFor(s.width * s.channels, 64), gy = s.height;
+  // shaders/include/image_loss_pass.glsl: horizontal passes run (pixel block, row, channel),
+  // vertical passes (element of a row, row block), each invocation kBlockOutputs outputs.
+  const uint32_t hx = groupsFor(groupsFor(s.width, kBlockOutputs), 64), hy = s.height, hz = s.channels;
+  const uint32_t vx = groupsFor(s.width * s.channels, 64), vy = groupsFor(s.height, kBlockOutputs);
   cmdBarrier(cb);
-  cmdDispatch(cb, p.moments, {bind(rendered), bind(target), bind(s.moments), bind(s.cross)}, &push, gx, gy);
+  cmdDispatch(cb, p.moments, {bind(rendered), bind(target), bind(s.moments), bind(s.cross)}, &push, hx, hy, hz);
   stamp("moments (horizontal)");
   cmdBarrier(cb);
-  cmdDispatch(cb, p.ssim, {bind(rendered), bind(target), bind(s.moments), bind(s.cross), bind(s.slopes), bind(s.terms)}, &push, gx, gy);
+  cmdDispatch(cb, p.ssim, {bind(rendered), bind(target), bind(s.moments), bind(s.cross), bind(s.slopes), bind(s.terms)}, &push, vx, vy);
   stamp("ssim map (vertical)");
   cmdBarrier(cb);
   uint32_t partials = groupsFor(push.count, kSumChunk);
   cmdDispatch(cb, p.sum, {bind(s.terms), bind(s.partials)}, &push.count, groupsFor(partials, 64));
-  cmdDispatch(cb, p.slopes, {bind(s.slopes), bind(s.moments)}, &push, gx, gy);
+  cmdDispatch(cb, p.slopes, {bind(s.slopes), bind(s.moments)}, &push, hx, hy, hz);
   stamp("slopes (horizontal)");
   // L = 0.8 * sum|x-y| / N + 0.2 * (1 - sum S / N)
   float n = float(push.count);
@@ -91,7 +94,7 @@ void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScr
   cmdDispatch(cb, p.reduce, {bind(s.partials), bind(result)}, &reduce, 1);
   stamp("sums");
   cmdBarrier(cb);
-  cmdDispatch(cb, p.grad, {bind(rendered), bind(target), bind(s.moments), bind(grad)}, &push, gx, gy);
+  cmdDispatch(cb, p.grad, {bind(rendered), bind(target), bind(s.moments), bind(grad)}, &push, vx, vy);
   stamp("gradient (vertical)");
 }
 

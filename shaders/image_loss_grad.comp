@@ -9,16 +9,20 @@ layout(std430, set = 0, binding = 1) readonly buffer Target { float y[]; };
 layout(std430, set = 0, binding = 2) readonly buffer Blurred { vec4 blurred[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer Grad { float grad[]; };
 void main() {
-  uint e = elementIndex();
-  vec3 s = vec3(0.0);  // .w is padding: not loaded
-  [[unroll]] for (int k = -kSsimRadius; k <= kSsimRadius; k++) {
-    uint i;
-    float w;
-    windowTap(e, k, true, i, w);
-    s += w * blurred[i].xyz;
+  int first = verticalFirst();
+  vec3 s[kBlock];
+  [[unroll]] for (int j = 0; j < kBlock; j++) s[j] = vec3(0.0);
+  [[unroll]] for (int t = 0; t < kTaps; t++) {
+    int row = first + t - kSsimRadius;
+    vec3 v = verticalInside(row) * blurred[verticalIndex(row)].xyz;  // .w is padding, not loaded
+    [[unroll]] for (int j = 0; j < kBlock; j++) s[j] += tapWeight(t, j) * v;
   }
-  float xe = x[e], ye = y[e];
-  float dSsim = s.x + 2.0 * xe * s.y + ye * s.z;
-  if (!elementValid()) return;
-  grad[e] = (kLossL1Weight * l1Slope(xe, ye) - kLossSsimWeight * dSsim) / float(pc.count);
+  bool column = verticalColumnValid();
+  [[unroll]] for (int j = 0; j < kBlock; j++) {
+    uint e = verticalIndex(first + j);
+    float xe = x[e], ye = y[e];
+    float dSsim = s[j].x + 2.0 * xe * s[j].y + ye * s[j].z;
+    if (column && first + j < int(pc.height))
+      grad[e] = (kLossL1Weight * l1Slope(xe, ye) - kLossSsimWeight * dSsim) / float(pc.count);
+  }
 }

@@ -5,14 +5,14 @@
 layout(std430, set = 0, binding = 0) readonly buffer Slopes { vec4 slope[]; };
 layout(std430, set = 0, binding = 1) writeonly buffer Blurred { vec4 blurred[]; };
 void main() {
-  uint e = elementIndex();
-  vec3 s = vec3(0.0);  // .w is padding: not loaded (lavapipe loads gathered vectors per component)
-  [[unroll]] for (int k = -kSsimRadius; k <= kSsimRadius; k++) {
-    uint i;
-    float w;
-    windowTap(e, k, false, i, w);
-    s += w * slope[i].xyz;
+  int first = horizontalFirst();
+  vec3 s[kBlock];
+  [[unroll]] for (int j = 0; j < kBlock; j++) s[j] = vec3(0.0);
+  [[unroll]] for (int t = 0; t < kTaps; t++) {
+    int pixel = first + t - kSsimRadius;
+    vec3 v = horizontalInside(pixel) * slope[horizontalIndex(pixel)].xyz;  // .w is padding, not loaded
+    [[unroll]] for (int j = 0; j < kBlock; j++) s[j] += tapWeight(t, j) * v;
   }
-  if (!elementValid()) return;
-  blurred[e] = vec4(s, 0.0);
+  [[unroll]] for (int j = 0; j < kBlock; j++)
+    if (first + j < int(pc.width)) blurred[horizontalIndex(first + j)] = vec4(s[j], 0.0);
 }

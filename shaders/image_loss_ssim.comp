@@ -11,20 +11,34 @@ layout(std430, set = 0, binding = 3) readonly buffer Cross { float mxy[]; };
 layout(std430, set = 0, binding = 4) writeonly buffer Slopes { vec4 slope[]; };
 layout(std430, set = 0, binding = 5) writeonly buffer Terms { vec2 term[]; };
 void main() {
-  uint e = elementIndex();
-  vec4 mu = vec4(0.0);  // mu1, mu2, exx, eyy
-  float exy = 0.0;
-  [[unroll]] for (int k = -kSsimRadius; k <= kSsimRadius; k++) {
-    uint i;
-    float w;
-    windowTap(e, k, true, i, w);
-    mu += w * m[i];
-    exy += w * mxy[i];
+  int first = verticalFirst();
+  vec4 mu[kBlock];  // mu1, mu2, exx, eyy
+  float exy[kBlock];
+  [[unroll]] for (int j = 0; j < kBlock; j++) {
+    mu[j] = vec4(0.0);
+    exy[j] = 0.0;
   }
-  float value, dMu1, dExx, dExy;
-  ssimTerms(mu.x, mu.y, mu.z, mu.w, exy, value, dMu1, dExx, dExy);
-  float l1 = abs(x[e] - y[e]);
-  if (!elementValid()) return;
-  slope[e] = vec4(dMu1, dExx, dExy, 0.0);
-  term[e] = vec2(l1, value);
+  [[unroll]] for (int t = 0; t < kTaps; t++) {
+    int row = first + t - kSsimRadius;
+    uint i = verticalIndex(row);
+    float inside = verticalInside(row);
+    vec4 v = inside * m[i];
+    float vxy = inside * mxy[i];
+    [[unroll]] for (int j = 0; j < kBlock; j++) {
+      float w = tapWeight(t, j);
+      mu[j] += w * v;
+      exy[j] += w * vxy;
+    }
+  }
+  bool column = verticalColumnValid();
+  [[unroll]] for (int j = 0; j < kBlock; j++) {
+    float value, dMu1, dExx, dExy;
+    ssimTerms(mu[j].x, mu[j].y, mu[j].z, mu[j].w, exy[j], value, dMu1, dExx, dExy);
+    uint e = verticalIndex(first + j);
+    float l1 = abs(x[e] - y[e]);
+    if (column && first + j < int(pc.height)) {
+      slope[e] = vec4(dMu1, dExx, dExy, 0.0);
+      term[e] = vec2(l1, value);
+    }
+  }
 }
