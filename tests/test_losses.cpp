@@ -102,11 +102,12 @@ TEST_CASE("reference image-loss gradient matches central finite differences") {
 GPU_TEST_CASE("image loss on the device matches the double reference (loss and dL/drendered)") {
   LossPipelines pipes = createLossPipelines(ctx);
   ImageLossScratch scratch;
-  // odd sizes (not multiples of the group), sizes smaller than the window, one channel
+  // odd sizes (not multiples of the group or of the 8-output blocks), sizes smaller than the
+  // window, one channel, rows longer than one workgroup of pixel blocks
   struct Size {
     int w, h, c;
   };
-  for (Size s : {Size{37, 29, 3}, Size{5, 4, 3}, Size{64, 16, 1}}) {
+  for (Size s : {Size{37, 29, 3}, Size{5, 4, 3}, Size{64, 16, 1}, Size{530, 9, 2}}) {  // 530: two groups of pixel blocks
     ImagePair p = randomPair(rng, s.w, s.h, s.c, 0.0);
     for (size_t i = 0; i < p.rendered.size(); i += 7) p.rendered[i] = p.target[i];  // L1 slope 0 here
     auto r = ref::imageLoss(toDouble(p.rendered), toDouble(p.target), s.w, s.h, s.c, true);
