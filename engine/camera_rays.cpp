@@ -46,6 +46,7 @@ CameraRayPipelines createCameraRayPipelines(Context& ctx) {
 
 void cmdCameraRays(VkCommandBuffer cb, const CameraRayPipelines& p, const Camera& camera, const Buffer& rays, float tmin, float tmax) {
   RayPush push = makePush(camera, uint32_t(camera.width) * uint32_t(camera.height), false, tmin, tmax);
+  cmdBarrier(cb);  // the ray buffer may still be read by the previous step's tracer
   cmdDispatch(cb, p.rays, {bind(p.noPixelList), bind(rays)}, &push, groupsFor(push.count, 256));
 }
 
@@ -53,6 +54,7 @@ void cmdCameraRaysForPixels(VkCommandBuffer cb, const CameraRayPipelines& p, con
                             const Buffer& rays, float tmin, float tmax) {
   if (count == 0) return;
   RayPush push = makePush(camera, count, true, tmin, tmax);
+  cmdBarrier(cb);  // the pixel list may come from the previous dispatch
   cmdDispatch(cb, p.rays, {bind(pixels), bind(rays)}, &push, groupsFor(count, 256));
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Camera rays on the device: a GpuRay (engine/rays.h) from the camera's position through the
-// centre of each pixel, unit direction, t in [tmin, tmax].
+// centre of each pixel, unit direction, t in [tmin, tmax]. Like every cmd* stage of the
+// trainer's pieces (losses, Adam), recording starts with a barrier, so inputs may come from
+// the dispatch before and outputs be read by a later stage that does the same.
 #include <cstdint>
 
 #include "engine/camera.h"

@@ -84,18 +84,19 @@ void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScr
   cmdDispatch(cb, p.ssim, {bind(rendered), bind(target), bind(s.moments), bind(s.cross), bind(s.slopes), bind(s.terms)}, &push, vx, vy);
   stamp("ssim map (vertical)");
   cmdBarrier(cb);
+  // the SSIM map's and |x - y|'s partial sums, and the backward's horizontal pass: both read
+  // only what the SSIM pass wrote
   uint32_t partials = groupsFor(push.count, kSumChunk);
   cmdDispatch(cb, p.sum, {bind(s.terms), bind(s.partials)}, &push.count, groupsFor(partials, 64));
   cmdDispatch(cb, p.slopes, {bind(s.slopes), bind(s.moments)}, &push, hx, hy, hz);
-  stamp("slopes (horizontal)");
+  stamp("partial sums + slopes (horizontal)");
+  cmdBarrier(cb);
   // L = 0.8 * sum|x-y| / N + 0.2 * (1 - sum S / N)
   float n = float(push.count);
-  ReducePush reduce{partials, 0.8f / n, -0.2f / n, 0.2f};
+  ReducePush reduce{partials, f32::kLossL1Weight / n, -f32::kLossSsimWeight / n, f32::kLossSsimWeight};
   cmdDispatch(cb, p.reduce, {bind(s.partials), bind(result)}, &reduce, 1);
-  stamp("sums");
-  cmdBarrier(cb);
   cmdDispatch(cb, p.grad, {bind(rendered), bind(target), bind(s.moments), bind(grad)}, &push, vx, vy);
-  stamp("gradient (vertical)");
+  stamp("total + gradient (vertical)");
 }
 
 uint32_t densityPartialCount(uint32_t count) { return groupsFor(count, kGroup); }
