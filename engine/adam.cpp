@@ -13,7 +13,9 @@ namespace {
 struct StepPush {
   uint32_t count, offset, clearGradients;
   float beta1, beta2, epsilon, stepSize, invSqrtBc2;
+  uint32_t first;
 };
+constexpr uint32_t kStepGroup = 256;  // adam_step's local size
 struct GatherPush {
   uint32_t rows, rowWidth;
 };
@@ -47,7 +49,9 @@ LearningRateSchedule referenceLearningRate(const std::string& name, double exten
 
 AdamPipelines createAdamPipelines(Context& ctx) {
   AdamPipelines p;
-  p.step = createComputePipeline(ctx, "adam_step", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(StepPush));
+  const std::vector<VkDescriptorType> buffers = {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer};
+  p.step = createComputePipeline(ctx, "adam_step", buffers, sizeof(StepPush), {{0, 0u}});  // whole workgroups
+  p.stepTail = createComputePipeline(ctx, "adam_step", buffers, sizeof(StepPush), {{0, 1u}});  // guarded stores
   p.gather = createComputePipeline(ctx, "gather_rows", {kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(GatherPush));
   return p;
 }
@@ -81,9 +85,14 @@ void cmdAdamStep(VkCommandBuffer cb, const AdamPipelines& p, AdamGroup& g, const
   double lr = g.lr.at(g.step);
   double bc1 = 1.0 - std::pow(s.beta1, g.step), bc2 = 1.0 - std::pow(s.beta2, g.step);
   StepPush push{g.count(),          offset, clearGradients ? 1u : 0u, float(s.beta1), float(s.beta2), float(s.epsilon),
-                float(lr / bc1), float(1.0 / std::sqrt(bc2))};
+                float(lr / bc1), float(1.0 / std::sqrt(bc2)), 0};
+  const uint32_t whole = g.count() / kStepGroup;
   cmdBarrier(cb);
-  cmdDispatch(cb, p.step, {bind(params), bind(grads), bind(g.m), bind(g.v)}, &push, groupsFor(push.count, 256));
+  if (whole) cmdDispatch(cb, p.step, {bind(params), bind(grads), bind(g.m), bind(g.v)}, &push, whole);
+  if (g.count() % kStepGroup) {
+    push.first = whole * kStepGroup;
+    cmdDispatch(cb, p.stepTail, {bind(params), bind(grads), bind(g.m), bind(g.v)}, &push, 1);
+  }
 }
 
 void cmdGatherRows(VkCommandBuffer cb, const AdamPipelines& p, const Buffer& src, const Buffer& dst, const Buffer& sourceRows, uint32_t rows,

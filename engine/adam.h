@@ -56,7 +56,8 @@ std::vector<AdamGroupRate> referenceLearningRates(double sceneExtent);
 LearningRateSchedule referenceLearningRate(const std::string& name, double sceneExtent);
 
 struct AdamPipelines {
-  ComputePipeline step;
+  ComputePipeline step;      // whole workgroups
+  ComputePipeline stepTail;  // the last partial workgroup
   ComputePipeline gather;
 };
 AdamPipelines createAdamPipelines(Context& ctx);
