@@ -16,12 +16,14 @@ namespace {
 std::vector<double> windowSum(const std::vector<double>& in, int width, int height, int channels) {
   std::vector<double> horizontal(in.size(), 0.0), out(in.size(), 0.0);
   const int r = f64::kSsimRadius;
+  double weight[2 * f64::kSsimRadius + 1];
+  for (int k = -r; k <= r; k++) weight[k + r] = f64::ssimWindowWeight(k);
   for (int py = 0; py < height; py++)
     for (int px = 0; px < width; px++)
       for (int c = 0; c < channels; c++) {
         double s = 0;
         for (int k = -r; k <= r; k++)
-          if (px + k >= 0 && px + k < width) s += f64::ssimWindowWeight(k) * in[(size_t(py) * width + px + k) * channels + c];
+          if (px + k >= 0 && px + k < width) s += weight[k + r] * in[(size_t(py) * width + px + k) * channels + c];
         horizontal[(size_t(py) * width + px) * channels + c] = s;
       }
   for (int py = 0; py < height; py++)
@@ -29,7 +31,7 @@ std::vector<double> windowSum(const std::vector<double>& in, int width, int heig
       for (int c = 0; c < channels; c++) {
         double s = 0;
         for (int k = -r; k <= r; k++)
-          if (py + k >= 0 && py + k < height) s += f64::ssimWindowWeight(k) * horizontal[(size_t(py + k) * width + px) * channels + c];
+          if (py + k >= 0 && py + k < height) s += weight[k + r] * horizontal[(size_t(py + k) * width + px) * channels + c];
         out[(size_t(py) * width + px) * channels + c] = s;
       }
   return out;
