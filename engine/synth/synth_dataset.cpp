@@ -333,7 +333,10 @@ void checkSynthOutputDir(const std::string& outDir) {
   fs::path parent = fs::absolute(out, ec).parent_path();
   fs::create_directories(parent, ec);
   if (ec || !fs::is_directory(parent)) fail("synth: cannot create output folder " + outDir + (ec ? ": " + ec.message() : ""));
-  if (access(parent.c_str(), W_OK) != 0) fail("synth: cannot write in " + parent.string());
+  // Permission bits do not tell (root, read-only or special file systems): try it.
+  fs::path probe = fs::absolute(out).string() + ".probe-" + std::to_string(getpid());
+  if (!fs::create_directory(probe, ec) || ec) fail("synth: cannot create output folder " + outDir + (ec ? ": " + ec.message() : ""));
+  fs::remove(probe, ec);
 }
 
 void generateSynthDataset(const SynthPreset& preset, const std::string& outDir, const SynthWriteOptions& options) {
