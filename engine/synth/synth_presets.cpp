@@ -102,10 +102,10 @@ void setNerfracWater(SynthPreset& p, const std::string& name, SynthRng& rng) {
 void buildRefracgsScene(SynthPreset& p, MaterialSet& mats, const std::string& family, bool tiny) {
   int seg = tiny ? 12 : 48;
   SceneBuilder b;
-  b.floorRect(-6, -6, 6, 6, -0.72, mats.get("gravel", {24, 24}));
+  b.floorRect(-6, -6, 6, 6, -0.72, mats.get("gravel", {24, 24}, {0.85, 0.78, 0.62}));  // sand
   if (family == "desk") {
-    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("brick"), mats.get("brick", {3, 3}));
-    b.box({0.05, 0.1, -0.55}, {0.45, 0.3, 0.15}, 0.1, mats.get("camera"), mats.get("text"));
+    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("brick"), mats.get("brick", {3, 3}, {0.95, 0.6, 0.45}));
+    b.box({0.05, 0.1, -0.55}, {0.45, 0.3, 0.15}, 0.1, mats.get("camera", {1, 1}, {0.8, 0.65, 0.45}), mats.get("text", {1, 1}, {1.0, 0.95, 0.8}));
     b.cylinder({0.3, 0.2, -0.4}, 0.05, 0.12, mats.get("coffee", {2, 1}), seg, mats.get("clock"));
     b.sphere({-0.2, 0.05, -0.3}, 0.1, mats.get("hubble_deep_field"), seg);
     b.box({0.0, -0.05, -0.38}, {0.12, 0.09, 0.02}, -0.3, mats.get("gravel"), mats.get("astronaut"));
@@ -114,24 +114,24 @@ void buildRefracgsScene(SynthPreset& p, MaterialSet& mats, const std::string& fa
       b.cylinder({0.55, -0.45, -0.7}, 0.08, 0.25, mats.get("rocket", {2, 1}), seg, mats.get("coffee"));
     }
   } else if (family == "kitchen") {
-    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("gravel"), mats.get("text", {4, 8}));
+    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("gravel"), mats.get("text", {4, 8}, {0.6, 0.75, 0.95}));
     b.cylinder({-0.3, 0.25, -0.7}, 0.08, 0.3, mats.get("coffee", {2, 1}), seg, mats.get("clock"));
-    b.cylinder({0.25, 0.3, -0.7}, 0.07, 0.22, mats.get("rocket", {2, 1}), seg, mats.get("gravel"));
-    b.box({0.2, -0.25, -0.55}, {0.15, 0.06, 0.15}, 0.6, mats.get("chelsea"), mats.get("brick"));
+    b.cylinder({0.25, 0.3, -0.7}, 0.07, 0.22, mats.get("rocket", {2, 1}), seg, mats.get("gravel", {1, 1}, {0.9, 0.3, 0.3}));
+    b.box({0.2, -0.25, -0.55}, {0.15, 0.06, 0.15}, 0.6, mats.get("chelsea"), mats.get("brick", {1, 1}, {0.95, 0.85, 0.4}));
     b.sphere({-0.25, -0.3, -0.6}, 0.1, mats.get("coffee"), seg);
     if (!tiny) {
-      b.box({0.5, 0.0, -0.62}, {0.1, 0.2, 0.08}, -0.2, mats.get("astronaut"), mats.get("camera"));
+      b.box({0.5, 0.0, -0.62}, {0.1, 0.2, 0.08}, -0.2, mats.get("astronaut"), mats.get("camera", {1, 1}, {0.5, 0.8, 0.6}));
       b.cylinder({0.0, 0.0, -0.7}, 0.12, 0.05, mats.get("brick", {3, 1}), seg, mats.get("hubble_deep_field"));
       b.sphere({-0.55, 0.0, -0.64}, 0.06, mats.get("chelsea"), seg);
     }
   } else {  // toys
-    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("grass"), mats.get("grass", {2, 2}));
+    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("grass"), mats.get("grass", {2, 2}, {0.45, 0.85, 0.35}));
     b.sphere({-0.25, 0.2, -0.55}, 0.15, mats.get("astronaut", {2, 1}), seg);
     b.sphere({0.3, -0.1, -0.6}, 0.1, mats.get("chelsea", {2, 1}), seg);
-    b.box({0.1, 0.35, -0.6}, {0.1, 0.1, 0.1}, 0.3, mats.get("clock"), mats.get("camera"));
+    b.box({0.1, 0.35, -0.6}, {0.1, 0.1, 0.1}, 0.3, mats.get("clock", {1, 1}, {0.4, 0.6, 1.0}), mats.get("camera", {1, 1}, {1.0, 0.85, 0.3}));
     b.cylinder({-0.2, -0.3, -0.7}, 0.05, 0.4, mats.get("rocket", {1, 1}), seg, mats.get("coffee"));
     if (!tiny) {
-      b.box({0.35, 0.3, -0.65}, {0.05, 0.05, 0.05}, -0.5, mats.get("brick"));
+      b.box({0.35, 0.3, -0.65}, {0.05, 0.05, 0.05}, -0.5, mats.get("brick", {1, 1}, {1.0, 0.4, 0.4}));
       b.box({0.45, -0.45, -0.64}, {0.07, 0.07, 0.07}, 0.2, mats.get("hubble_deep_field"));
       b.sphere({-0.5, -0.5, -0.65}, 0.06, mats.get("coffee"), seg);
     }
@@ -224,16 +224,16 @@ SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t se
     double fov = 50 * kDeg;
     glm::dvec3 centre(0, 0, -0.35);
     if (entry->topdown) {
-      auto grid = gridCameras(0, 0, 1.6, 0.3, w, h, fov);
+      auto grid = gridCameras(0, 0, 1.3, 0.25, w, h, fov);
       for (int i = 0; i < 9; i++) (i == 4 ? p.test : p.train).push_back(grid[i]);
       p.air = p.test;
       p.description = "RefracGS-like '" + entry->family + "' scene, 9 downward cameras (centre held out), IOR 1.33";
     } else {
-      p.train = ringCameras(12, 30, 2.4, 0, centre, w, h, fov);
-      auto outer = ringCameras(12, 45, 2.4, 15, centre, w, h, fov);
+      p.train = ringCameras(12, 30, 2.0, 0, centre, w, h, fov);
+      auto outer = ringCameras(12, 45, 2.0, 15, centre, w, h, fov);
       p.train.insert(p.train.end(), outer.begin(), outer.end());
-      p.test = ringCameras(6, 35, 2.4, 30, centre, w, h, fov);
-      p.air = ringCameras(6, 30, 1.7, 0, centre, w, h, fov);
+      p.test = ringCameras(6, 35, 2.0, 30, centre, w, h, fov);
+      p.air = ringCameras(6, 30, 1.4, 0, centre, w, h, fov);
       p.description = "RefracGS-like '" + entry->family +
                       "' scene: 24 training views on rings at 30 and 45 deg, 6 test views at 35 deg, 6 water-removal views at 30 deg "
                       "nearer the centre, IOR 1.33";
