@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <tiny_gltf.h>
 
 #include "engine/error.h"
 #include "engine/io/atomic_file.h"
@@ -133,7 +134,7 @@ std::vector<std::string> filesUnder(const fs::path& root) {
 
 }  // namespace
 
-TEST_CASE("synth: a marker under flat water appears where Snell's law puts it (straight down and oblique)") {
+TEST_CASE("synth: a marker under flat water appears where Snell refraction puts it (straight down and oblique)") {
   double ior = 1.33, depth = 0.4;
   glm::dvec2 marker(0.18, -0.12);
   // Straight down from 0.6 m above the water, the marker off-axis.
@@ -144,7 +145,7 @@ TEST_CASE("synth: a marker under flat water appears where Snell's law puts it (s
   checkMarker(lookAtCamera({0.6, 0.5, 0.7}, {0.1, -0.1, -0.4}, {0, 0, 1}, 128, 96, 45 * M_PI / 180), depth, marker, 1.1);
 }
 
-TEST_CASE("synth: the surface root finder finds the first crossing that dense sampling finds, grazing rays included") {
+TEST_CASE("synth: the surface root finder finds the first crossing that dense sampling finds (grazing rays included)") {
   std::mt19937 rng(test::freshSeed());
   std::uniform_real_distribution<double> U(0, 1);
   int hits = 0, grazingHits = 0, misses = 0;
@@ -199,7 +200,7 @@ TEST_CASE("synth: the surface root finder finds the first crossing that dense sa
   CHECK(misses > 0);
 }
 
-TEST_CASE("synth: the same seed gives byte-identical datasets, another seed a different one") {
+TEST_CASE("synth: the same seed gives byte-identical datasets and another seed a different one") {
   TempDir dir;
   for (const char* out : {"a", "b"}) {
     auto r = test::runCli("synth nerfrac-hybrid --size tiny --seed 5 -o " + (dir / out));
@@ -258,7 +259,7 @@ TEST_CASE("synth: poses_bounds.npy holds the same cameras as the Blender transfo
   }
 }
 
-TEST_CASE("synth: bad arguments give one clear error, a non-zero exit and no output") {
+TEST_CASE("synth: bad arguments give one clear error and a non-zero exit and leave no output") {
   TempDir dir;
   auto unknown = test::runCli("synth no-such-preset --size tiny -o " + (dir / "x"));
   CHECK(unknown.exitCode != 0);
@@ -293,4 +294,63 @@ TEST_CASE("synth: bad arguments give one clear error, a non-zero exit and no out
   CHECK(full.output.find("not empty") != std::string::npos);
   CHECK(filesUnder(dir.path) == std::vector<std::string>{"file", "full/keep.txt"});
   CHECK(!fs::exists(dir.path / "x"));
+}
+
+// H from water.json's parameters alone, as a user of the dataset would evaluate it.
+static double heightFromJson(const nlohmann::json& surface, double x, double y) {
+  double h = surface["mean_height"].get<double>();
+  for (const auto& w : surface["directional_waves"])
+    h += w["amplitude"].get<double>() * std::sin(w["kx"].get<double>() * x + w["ky"].get<double>() * y + w["phase"].get<double>());
+  for (const auto& r : surface["radial_ripples"]) {
+    double dx = x - r["cx"].get<double>(), dy = y - r["cy"].get<double>(), sigma = r["sigma"].get<double>();
+    h += r["amplitude"].get<double>() * std::cos(r["k"].get<double>() * std::hypot(dx, dy)) * std::exp(-(dx * dx + dy * dy) / (2 * sigma * sigma));
+  }
+  return h;
+}
+
+TEST_CASE("synth: water.json and the height map and the glTF mesh describe the same surface") {
+  TempDir dir;
+  auto r = test::runCli("synth nerfrac-hybrid --size tiny --seed 3 -o " + (dir / "h"));
+  INFO(r.output);
+  REQUIRE(r.exitCode == 0);
+  auto water = readJson(dir / "h/water.json");
+  CHECK(water["ior"].get<double>() == 1.1);
+  const auto& surface = water["surface"];
+  REQUIRE(surface["type"] == "wave_sum");
+  REQUIRE(surface["directional_waves"].size() == 1);
+  REQUIRE(surface["radial_ripples"].size() == 1);
+  std::vector<double> domain = water["height_map"]["domain"].get<std::vector<double>>();
+  CHECK(domain == water["domain"].get<std::vector<double>>());
+
+  NpyArray hm = readNpy(dir / "h/water_gt_height.npy");
+  REQUIRE(hm.shape.size() == 2);
+  size_t ny = hm.shape[0], nx = hm.shape[1];
+  double range = 0;
+  for (size_t j = 0; j < ny; j++)
+    for (size_t i = 0; i < nx; i++) {
+      double x = domain[0] + (domain[2] - domain[0]) * double(i) / double(nx - 1), y = domain[1] + (domain[3] - domain[1]) * double(j) / double(ny - 1);
+      double h = heightFromJson(surface, x, y);
+      CHECK(hm.data[j * nx + i] == doctest::Approx(h).epsilon(1e-6));
+      range = std::max(range, std::abs(h));
+    }
+  CHECK(range > 0.01);  // the surface is not flat
+
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  REQUIRE(loader.LoadASCIIFromFile(&model, &err, &warn, dir / "h/water_gt.gltf"));
+  REQUIRE(model.meshes.size() == 1);
+  const auto& prim = model.meshes[0].primitives[0];
+  const auto& acc = model.accessors[prim.attributes.at("POSITION")];
+  const auto& view = model.bufferViews[acc.bufferView];
+  const float* pos = reinterpret_cast<const float*>(model.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset);
+  REQUIRE(acc.count > 100);
+  for (size_t v = 0; v < acc.count; v++) {
+    const float* p = pos + 3 * v;
+    CHECK(p[0] >= domain[0] - 1e-6);
+    CHECK(p[0] <= domain[2] + 1e-6);
+    CHECK(p[2] == doctest::Approx(heightFromJson(surface, p[0], p[1])).epsilon(1e-6));
+  }
+  const auto& idx = model.accessors[prim.indices];
+  CHECK(idx.count == 6 * (size_t(std::sqrt(double(acc.count))) - 1) * (size_t(std::sqrt(double(acc.count))) - 1));
 }
