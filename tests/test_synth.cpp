@@ -354,3 +354,29 @@ TEST_CASE("synth: water.json and the height map and the glTF mesh describe the s
   const auto& idx = model.accessors[prim.indices];
   CHECK(idx.count == 6 * (size_t(std::sqrt(double(acc.count))) - 1) * (size_t(std::sqrt(double(acc.count))) - 1));
 }
+
+TEST_CASE("synth: masks mark the pixels whose rays meet the water domain") {
+  SynthScene scene = markerScene(0.4, {0, 0});
+  WaveSurface small;  // flat water over a 0.4 m square, seen from 0.6 m with a 60 degree view
+  small.domain[0] = small.domain[1] = -0.2;
+  small.domain[2] = small.domain[3] = 0.2;
+  SynthCamera cam = downwardCamera({0.05, 0.02, 0.6}, 64, 48, 60 * M_PI / 180);
+  RenderedView v = renderView(scene, &small, 1.33, cam, RenderSettings{}, 3);
+  int inside = 0, outside = 0;
+  for (int y = 0; y < v.height; y++)
+    for (int x = 0; x < v.width; x++) {
+      glm::dvec3 d = cameraRayDirection(cam, x + 0.5, y + 0.5), o = cameraCentre(cam);
+      glm::dvec2 p = glm::dvec2(o) + glm::dvec2(d) * (-o.z / d.z);  // where the pixel centre meets z = 0
+      double margin = 0.01;  // about one pixel at this distance
+      float m = v.mask[size_t(y) * v.width + x];
+      if (std::abs(p.x) < 0.2 - margin && std::abs(p.y) < 0.2 - margin) {
+        CHECK(m == 1.0f);
+        inside++;
+      } else if (std::abs(p.x) > 0.2 + margin || std::abs(p.y) > 0.2 + margin) {
+        CHECK(m == 0.0f);
+        outside++;
+      }
+    }
+  CHECK(inside > 300);
+  CHECK(outside > 300);
+}
