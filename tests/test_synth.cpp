@@ -14,6 +14,7 @@
 #include "engine/io/npy.h"
 #include "engine/synth/render_view.h"
 #include "engine/synth/surface_intersect.h"
+#include "engine/synth/synth_dataset.h"
 #include "engine/synth/synth_presets.h"
 #include "tests/gpu_test.h"
 
@@ -379,4 +380,21 @@ TEST_CASE("synth: masks mark the pixels whose rays meet the water domain") {
     }
   CHECK(inside > 300);
   CHECK(outside > 300);
+}
+
+TEST_CASE("synth: a cancelled generation leaves neither the output folder nor a temporary one") {
+  TempDir dir;
+  SynthPreset preset = makeSynthPreset("toys-topdown", SynthSize::Tiny, 1, std::string(REFRAX_SOURCE_DIR) + "/assets/textures");
+  std::atomic<bool> cancel{true};
+  SynthWriteOptions o;
+  o.cancel = &cancel;
+  CHECK_THROWS_AS(generateSynthDataset(preset, dir / "out", o), Error);
+  CHECK(filesUnder(dir.path).empty());
+  CHECK(fs::is_empty(dir.path));
+  cancel = false;
+  generateSynthDataset(preset, dir / "out", o);
+  CHECK(fs::exists(dir.path / "out" / "water.json"));
+  int entries = 0;
+  for (auto& e : fs::directory_iterator(dir.path)) entries += e.is_directory() ? 1 : 100;
+  CHECK(entries == 1);
 }

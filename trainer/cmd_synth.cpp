@@ -1,6 +1,8 @@
 // refrax synth: generates a synthetic dataset with ground-truth water (NeRFrac-like and
 // RefracGS-like presets) on the CPU, with a renderer that shares no code with the trainer.
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -15,6 +17,9 @@ namespace fs = std::filesystem;
 
 namespace refrax {
 namespace {
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void onInterrupt(int) { g_interrupted.store(true); }
 
 std::string presetList() {
   std::string s;
@@ -70,6 +75,10 @@ int runSynth(const cli::Args& args) {
   o.seed = uint64_t(seed);
   o.sizeName = size;
   o.progress = size == "full";
+  // Stop between views on Ctrl-C so the temporary folder is removed rather than left behind.
+  o.cancel = &g_interrupted;
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
   std::printf("synth %s (%s, seed %ld): %zu train, %zu test, %zu air views, %d x %d px, %zu triangles -> %s\n", name.c_str(), size.c_str(),
               seed, preset.train.size(), preset.test.size(), preset.air.size(), preset.train.front().width, preset.train.front().height,
               preset.scene.bvh.triangles.size(), out.c_str());

@@ -212,6 +212,7 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
   std::map<std::string, std::vector<double>> missFraction;
   auto start = std::chrono::steady_clock::now();
   for (size_t k = 0; k < jobs.size(); k++) {
+    if (o.cancel && o.cancel->load()) fail("synth: interrupted; nothing was written to the output folder");
     const RenderJob& job = jobs[k];
     uint64_t key = mixKeys(k, job.water ? 1 : 2);
     RenderedView v = renderView(p.scene, job.water ? &p.water : nullptr, p.ior, *job.camera, settings, key);

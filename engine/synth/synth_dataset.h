@@ -2,6 +2,7 @@
 // Writes a synthetic preset as a dataset folder: Blender transforms (train / test / air),
 // PNG renders with and without water, masks, water.json, the ground-truth surface as glTF
 // and as a height map, and for NeRFrac-like presets the LLFF layout (poses_bounds.npy).
+#include <atomic>
 #include <cstdint>
 #include <string>
 
@@ -13,6 +14,9 @@ struct SynthWriteOptions {
   uint64_t seed = 1;
   std::string sizeName = "full";
   bool progress = false;  // one line per view with an ETA
+  // Checked between views; when it becomes true the generation stops with refrax::Error and
+  // generateSynthDataset removes its temporary folder (the CLI sets it on SIGINT / SIGTERM).
+  const std::atomic<bool>* cancel = nullptr;
   int threads = 2;
 };
 
