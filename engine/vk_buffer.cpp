@@ -86,7 +86,8 @@ Buffer createBuffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags extraUsa
     fail("out of memory allocating a buffer of " + std::to_string(size >> 20) + " MiB");
   REFRAX_VK(r);
   REFRAX_VK(vkBindBufferMemory(ctx.device, b.buffer, b.memory, 0));
-  if (ctx.memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
+  bool staged = use == MemoryUse::Device && ctx.forceStaging;
+  if (!staged && (ctx.memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT))
     REFRAX_VK(vkMapMemory(ctx.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
   VkBufferDeviceAddressInfo dai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
   dai.buffer = b.buffer;

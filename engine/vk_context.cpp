@@ -53,13 +53,14 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(VkDebugUtilsMessageSeverityFl
   return VK_FALSE;
 }
 
-VkInstance createInstance(bool validation, Context* ctx, VkDebugUtilsMessengerEXT* messenger) {
+VkInstance createInstance(bool validation, Context* ctx, VkDebugUtilsMessengerEXT* messenger,
+                          const std::vector<const char*>& extraExtensions = {}) {
   initLoader();
   uint32_t loaderVersion = 0;
   if (vkEnumerateInstanceVersion) vkEnumerateInstanceVersion(&loaderVersion);
   if (loaderVersion < VK_API_VERSION_1_2) fail("the Vulkan loader is older than 1.2; Refrax needs Vulkan 1.2 or newer");
 
-  std::vector<const char*> layers, extensions;
+  std::vector<const char*> layers, extensions(extraExtensions);
   VkDebugUtilsMessengerCreateInfoEXT dmi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
   dmi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
   dmi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
@@ -221,7 +222,7 @@ std::vector<DeviceCaps> listDevices() {
 std::unique_ptr<Context> createContext(const ContextOptions& options) {
   auto ctx = std::make_unique<Context>();
   ctx->validation = options.validation || envFlag("REFRAX_VALIDATION");
-  ctx->instance = createInstance(ctx->validation, ctx.get(), &ctx->messenger);
+  ctx->instance = createInstance(ctx->validation, ctx.get(), &ctx->messenger, options.extraInstanceExtensions);
 
   uint32_t n = 0;
   vkEnumeratePhysicalDevices(ctx->instance, &n, nullptr);

@@ -41,7 +41,8 @@ struct ContextOptions {
   std::string device;       // name substring or index; empty: REFRAX_DEVICE, else the best device
   bool validation = false;  // also switched on by REFRAX_VALIDATION=1
   bool verbose = false;     // print the chosen device
-  std::vector<const char*> extraDeviceExtensions;  // e.g. VK_KHR_swapchain for the viewer
+  std::vector<const char*> extraDeviceExtensions;    // e.g. VK_KHR_swapchain for the viewer
+  std::vector<const char*> extraInstanceExtensions;  // e.g. the window system's surface extensions
 };
 
 struct Context {
@@ -59,6 +60,9 @@ struct Context {
   VkPhysicalDeviceMemoryProperties memory{};
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelProperties{};
   bool validation = false;
+  // Tests set this to exercise the staging path that discrete GPUs take on a device
+  // whose memory the host could map directly (lavapipe).
+  bool forceStaging = false;
 
   // Validation messages seen so far (warnings and errors of every type).
   std::atomic<int> validationMessageCount{0};

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <string>
 #include <sys/wait.h>
 
 #include "tests/gpu_test.h"
@@ -57,10 +58,38 @@ CliResult runCli(const std::string& arguments) {
 
 }  // namespace refrax::test
 
+namespace {
+// Counts the cases that ran, so that a filter matching nothing (e.g. a CTest name that lost
+// part of the case name) fails instead of passing vacuously.
+int g_casesRun = 0;
+struct CaseCounter : doctest::IReporter {
+  explicit CaseCounter(const doctest::ContextOptions&) {}
+  void report_query(const doctest::QueryData&) override {}
+  void test_run_start() override {}
+  void test_run_end(const doctest::TestRunStats&) override {}
+  void test_case_start(const doctest::TestCaseData&) override { g_casesRun++; }
+  void test_case_reenter(const doctest::TestCaseData&) override {}
+  void test_case_end(const doctest::CurrentTestCaseStats&) override {}
+  void test_case_exception(const doctest::TestCaseException&) override {}
+  void subcase_start(const doctest::SubcaseSignature&) override {}
+  void subcase_end() override {}
+  void log_assert(const doctest::AssertData&) override {}
+  void log_message(const doctest::MessageData&) override {}
+  void test_case_skipped(const doctest::TestCaseData&) override {}
+};
+REGISTER_LISTENER("case-counter", 1, CaseCounter);
+}  // namespace
+
 int main(int argc, char** argv) {
   doctest::Context runner;
   runner.applyCommandLine(argc, argv);
   int result = runner.run();
+  bool listing = false;
+  for (int i = 1; i < argc; i++) listing |= std::string(argv[i]).find("-l") == 0 || std::string(argv[i]).find("--list") == 0;
+  if (!listing && !runner.shouldExit() && g_casesRun == 0) {
+    std::fprintf(stderr, "no test case matched the filter: failing rather than passing vacuously\n");
+    return 1;
+  }
   // Destroying the device lets the layer report leaked objects; those fail the run too.
   int before = refrax::processValidationMessageCount();
   refrax::test::g_context.reset();

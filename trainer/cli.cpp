@@ -76,6 +76,7 @@ Args parseArgs(const Command& command, int argc, char** argv, int first) {
       args.values["help"] = "1";
       continue;
     }
+    if (a == "-o") a = "--output";
     if (a.rfind("--", 0) != 0 || a.size() == 2) {
       args.positional.push_back(a);
       continue;

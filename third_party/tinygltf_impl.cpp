@@ -1,6 +1,5 @@
-// Single-definition translation unit for the header-only libraries Refrax uses.
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_WRITE_IMPLEMENTATION
+// The one translation unit that compiles tinygltf (header-only, libtinygltf-dev). stb_image
+// and stb_image_write come compiled from Debian's libstb (linked as `stb`).
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 #define TINYGLTF_IMPLEMENTATION
