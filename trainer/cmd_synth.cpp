@@ -45,18 +45,12 @@ std::string findTextureDir(const cli::Args& args) {
 }
 
 int runSynth(const cli::Args& args) {
-  // The shared parser takes only --long options; `-o DIR` arrives as two positionals.
+  // The shared parser maps `-o DIR` to --output DIR.
   std::vector<std::string> names;
-  std::string out = args.get("out");
-  for (size_t i = 0; i < args.positional.size(); i++) {
-    if (args.positional[i] == "-o") {
-      if (i + 1 >= args.positional.size()) fail("synth: -o needs a value (DIR)");
-      out = args.positional[++i];
-    } else if (args.positional[i].size() > 1 && args.positional[i][0] == '-') {
-      fail("synth: unknown option " + args.positional[i] + " (see --help)");
-    } else {
-      names.push_back(args.positional[i]);
-    }
+  std::string out = args.get("output");
+  for (const auto& p : args.positional) {
+    if (p.size() > 1 && p[0] == '-') fail("synth: unknown option " + p + " (see --help)");
+    names.push_back(p);
   }
   if (names.size() != 1) fail("synth: expected one preset name (" + presetList() + ")");
   const std::string name = names[0];
@@ -91,7 +85,7 @@ int runSynth(const cli::Args& args) {
 
 REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-truth water (CPU)",
                 "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--textures DIR]\n       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown",
-                {{"out", "DIR", "same as -o DIR: output folder (must not exist or be empty); appears only when complete", ""},
+                {{"output", "DIR", "(or -o DIR) output folder; must not exist or be empty; appears only when complete", ""},
                  {"size", "tiny|full", "tiny: small images and simple geometry for CI", "full"},
                  {"seed", "N", "seed for the wave phases / spectrum and the antialiasing jitter", "1"},
                  {"textures", "DIR", "texture folder (also REFRAX_TEXTURES); default: the repository's assets/textures", ""}},
