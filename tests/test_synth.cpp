@@ -398,3 +398,39 @@ TEST_CASE("synth: a cancelled generation leaves neither the output folder nor a 
   for (auto& e : fs::directory_iterator(dir.path)) entries += e.is_directory() ? 1 : 100;
   CHECK(entries == 1);
 }
+
+TEST_CASE("synth: the triangle BVH returns the closest hit that brute force finds") {
+  std::mt19937 rng(test::freshSeed());
+  std::uniform_real_distribution<double> U(0, 1);
+  SceneBuilder b;
+  for (int i = 0; i < 12; i++) {
+    glm::dvec3 c(U(rng) * 2 - 1, U(rng) * 2 - 1, -U(rng));
+    if (i % 3 == 0) b.sphere(c, 0.05 + 0.2 * U(rng), 0, 16);
+    else if (i % 3 == 1) b.box(c, {0.05 + 0.2 * U(rng), 0.05 + 0.2 * U(rng), 0.05 + 0.2 * U(rng)}, U(rng) * 3, 0);
+    else b.cylinder(c, 0.05 + 0.1 * U(rng), 0.1 + 0.3 * U(rng), 0, 12);
+  }
+  b.floorRect(-2, -2, 2, 2, -1.2, 0);
+  std::vector<MeshTriangle> all = b.triangles;
+  TriangleBvh bvh = buildTriangleBvh(b.triangles);
+  int hits = 0;
+  for (int r = 0; r < 2000; r++) {
+    glm::dvec3 o(U(rng) * 3 - 1.5, U(rng) * 3 - 1.5, 0.5 + U(rng));
+    glm::dvec3 d = glm::normalize(glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, -U(rng)));
+    std::optional<TriangleHit> brute;
+    for (size_t i = 0; i < all.size(); i++) {
+      auto h = intersectTriangle(all[i], o, d, 1e-9, brute ? brute->t : 1e30);
+      if (h) {
+        brute = h;
+        brute->triangle = int(i);
+      }
+    }
+    auto fast = closestTriangleHit(bvh, o, d, 1e-9, 1e30);
+    REQUIRE(bool(fast) == bool(brute));
+    if (!fast) continue;
+    hits++;
+    CHECK(fast->t == doctest::Approx(brute->t).epsilon(1e-12));
+    glm::dvec3 pf = o + fast->t * d;
+    CHECK(glm::length(pf - (o + brute->t * d)) < 1e-9);
+  }
+  CHECK(hits > 1000);
+}

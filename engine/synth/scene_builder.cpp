@@ -106,11 +106,4 @@ void SceneBuilder::cylinder(const glm::dvec3& base, double radius, double height
   }
 }
 
-double SceneBuilder::highestZ() const {
-  double z = -1e300;
-  for (const auto& t : triangles)
-    for (const auto& p : t.p) z = std::max(z, p.z);
-  return z;
-}
-
 }  // namespace refrax::synth

@@ -35,8 +35,6 @@ struct SceneBuilder {
   // Upright cylinder standing on baseCentre, with caps; side u around, v up.
   void cylinder(const glm::dvec3& baseCentre, double radius, double height, int material, int segments, int capMaterial = -1);
   void quad(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d, int material);
-
-  double highestZ() const;
 };
 
 }  // namespace refrax::synth

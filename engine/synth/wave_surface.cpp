@@ -51,8 +51,4 @@ double waveSlopeBound(const WaveSurface& s) {
   return b;
 }
 
-bool inWaveDomain(const WaveSurface& s, double x, double y) {
-  return x >= s.domain[0] && x <= s.domain[2] && y >= s.domain[1] && y <= s.domain[3];
-}
-
 }  // namespace refrax::synth

@@ -33,6 +33,5 @@ glm::dvec3 waveNormal(const WaveSurface& s, double x, double y);
 double waveHeightBound(const WaveSurface& s);
 // Lipschitz bound on |grad H| over the whole plane.
 double waveSlopeBound(const WaveSurface& s);
-bool inWaveDomain(const WaveSurface& s, double x, double y);
 
 }  // namespace refrax::synth
