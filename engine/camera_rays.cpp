@@ -1,28 +1,61 @@
 #include "engine/camera_rays.h"
 
-#include <glm/glm.hpp>
-
 #include "engine/error.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
 
 namespace refrax {
+namespace {
 
-std::vector<GpuRay> cameraRays(const GpuPinholeCamera& c, uint32_t width, uint32_t height, float tmin, float tmax) {
-  if (width == 0 || height == 0) fail("camera rays for an empty image");
-  std::vector<GpuRay> rays(size_t(width) * height);
-  glm::vec3 f(c.forward[0], c.forward[1], c.forward[2]), r(c.right[0], c.right[1], c.right[2]), u(c.up[0], c.up[1], c.up[2]);
-  for (uint32_t py = 0; py < height; py++)
-    for (uint32_t px = 0; px < width; px++) {
-      float ux = (float(px) + 0.5f) / float(width) * 2.0f - 1.0f, uy = (float(py) + 0.5f) / float(height) * 2.0f - 1.0f;
-      glm::vec3 d = glm::normalize(f + ux * r - uy * u);
-      GpuRay& ray = rays[size_t(py) * width + px];
-      for (int a = 0; a < 3; a++) {
-        ray.origin[a] = c.position[a];
-        ray.dir[a] = d[a];
-      }
-      ray.tmin = tmin;
-      ray.tmax = tmax;
-    }
-  return rays;
+struct RayPush {
+  float right[4], up[4], back[4], positionTmin[4], intrinsics[4];
+  uint32_t width, count, usePixelList;
+  float tmax;
+};
+static_assert(sizeof(RayPush) == 96, "RayPush must match camera_rays.comp");
+
+RayPush makePush(const Camera& c, uint32_t count, bool list, float tmin, float tmax) {
+  if (c.width <= 0 || c.height <= 0 || !(c.fx > 0) || !(c.fy > 0)) fail("camera rays: the camera has no valid image size or focal length");
+  RayPush push{};
+  for (int a = 0; a < 3; a++) {
+    push.right[a] = float(c.cameraToWorld[0][a]);
+    push.up[a] = float(c.cameraToWorld[1][a]);
+    push.back[a] = float(c.cameraToWorld[2][a]);
+    push.positionTmin[a] = float(c.cameraToWorld[3][a]);
+  }
+  push.positionTmin[3] = tmin;
+  push.intrinsics[0] = float(c.fx);
+  push.intrinsics[1] = float(c.fy);
+  push.intrinsics[2] = float(c.cx);
+  push.intrinsics[3] = float(c.cy);
+  push.width = uint32_t(c.width);
+  push.count = count;
+  push.usePixelList = list ? 1u : 0u;
+  push.tmax = tmax;
+  return push;
+}
+
+}  // namespace
+
+CameraRayPipelines createCameraRayPipelines(Context& ctx) {
+  CameraRayPipelines p;
+  p.rays = createComputePipeline(ctx, "camera_rays", {kStorageBuffer, kStorageBuffer}, sizeof(RayPush));
+  p.noPixelList = createBuffer(ctx, 4);
+  return p;
+}
+
+void cmdCameraRays(VkCommandBuffer cb, const CameraRayPipelines& p, const Camera& camera, const Buffer& rays, float tmin, float tmax) {
+  RayPush push = makePush(camera, uint32_t(camera.width) * uint32_t(camera.height), false, tmin, tmax);
+  cmdBarrier(cb);  // the ray buffer may still be read by the previous step's tracer
+  cmdDispatch(cb, p.rays, {bind(p.noPixelList), bind(rays)}, &push, groupsFor(push.count, 256));
+}
+
+void cmdCameraRaysForPixels(VkCommandBuffer cb, const CameraRayPipelines& p, const Camera& camera, const Buffer& pixels, uint32_t count,
+                            const Buffer& rays, float tmin, float tmax) {
+  if (count == 0) return;
+  RayPush push = makePush(camera, count, true, tmin, tmax);
+  cmdBarrier(cb);  // the pixel list may come from the previous dispatch
+  cmdDispatch(cb, p.rays, {bind(pixels), bind(rays)}, &push, groupsFor(count, 256));
 }
 
 }  // namespace refrax

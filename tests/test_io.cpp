@@ -89,3 +89,9 @@ TEST_CASE("JSON errors name the file and the field") {
   CHECK_THROWS_WITH_AS(requireNumber(j, "s", "ok.json"), doctest::Contains("'s' must be a number"), Error);
   CHECK_THROWS_WITH_AS(requireField(j, "y", "ok.json"), doctest::Contains("missing 'y'"), Error);
 }
+
+TEST_CASE("JSON numbers out of range are a clear error, not an escaped exception") {
+  TempDir dir;
+  writeTextAtomic(dir / "big.json", "{\"x\": 1e999}");
+  CHECK_THROWS_WITH_AS(readJson(dir / "big.json"), doctest::Contains("malformed JSON"), Error);
+}

@@ -13,6 +13,8 @@ nlohmann::json readJson(const std::string& path) {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     fail("malformed JSON in " + path + " (byte " + std::to_string(e.byte) + ")");
+  } catch (const nlohmann::json::exception& e) {  // e.g. a number out of range such as 1e999
+    fail("malformed JSON in " + path + ": " + e.what());
   }
 }
 

@@ -36,9 +36,15 @@ TriangleTraceReport compareTriangleHits(const std::vector<float>& vertices, cons
     rep.cpuHits += best.hit;
     rep.gpuHits += gpuHit;
     bool ambiguous = best.hit && std::min({best.u, best.v, 1.0 - best.u - best.v}) < edgeEps;
+    if (!best.hit && gpuHit && g.primitive < nt) {  // a GPU hit within float reach of an outer edge
+      double u, v;
+      uint32_t k = g.primitive;
+      if (planeBarycentrics(o, d, vertexAt(vertices, indices[3 * k]), vertexAt(vertices, indices[3 * k + 1]),
+                            vertexAt(vertices, indices[3 * k + 2]), u, v))
+        ambiguous = std::min({u, v, 1.0 - u - v}) > -edgeEps;
+    }
     rep.edgeAmbiguous += ambiguous;
     if (best.hit != gpuHit) {
-      // A GPU hit/miss right at the mesh's outer edge (or a CPU hit there) is ambiguous too.
       if (!ambiguous) {
         rep.hitMissDisagree++;
         if (rep.firstProblem.empty())

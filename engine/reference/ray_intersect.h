@@ -33,6 +33,19 @@ inline TriangleHitD intersectTriangle(const glm::dvec3& o, const glm::dvec3& d, 
   return h;
 }
 
+// Barycentrics (u, v) of the point where the ray meets the triangle's plane, unclamped:
+// negative values say how far outside an edge it passes (false when parallel).
+inline bool planeBarycentrics(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& p0, const glm::dvec3& p1,
+                              const glm::dvec3& p2, double& u, double& v) {
+  glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, pv = glm::cross(d, e2);
+  double det = glm::dot(e1, pv);
+  if (det == 0.0) return false;
+  glm::dvec3 tv = o - p0;
+  u = glm::dot(tv, pv) / det;
+  v = glm::dot(d, glm::cross(tv, e1)) / det;
+  return true;
+}
+
 // Does the segment o + t d, t in [tmin, tmax], touch the closed box [lo, hi]?
 inline bool overlapsBox(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi, double tmin,
                         double tmax) {

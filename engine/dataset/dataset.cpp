@@ -1,0 +1,37 @@
+#include "engine/dataset/dataset.h"
+
+#include <cmath>
+
+#include "engine/error.h"
+#include "engine/io/atomic_file.h"
+
+namespace refrax {
+
+const std::vector<View>& Dataset::split(const std::string& name) const {
+  auto it = splits.find(name);
+  if (it == splits.end()) fail("dataset " + root + " has no '" + name + "' split");
+  return it->second;
+}
+
+Dataset loadDataset(const std::string& folder, const DatasetOptions& options) {
+  if (fileExists(folder + "/transforms_train.json")) return loadBlenderDataset(folder, options);
+  if (fileExists(folder + "/poses_bounds.npy")) return loadLlffDataset(folder, options);
+  fail("no dataset in " + folder + ": expected transforms_train.json (NeRF/Blender) or poses_bounds.npy (LLFF)");
+}
+
+void validateCameraToWorld(const glm::dmat4& m, const std::string& where) {
+  for (int c = 0; c < 4; c++)
+    for (int r = 0; r < 4; r++)
+      if (!std::isfinite(m[c][r])) fail(where + ": the camera pose has a non-finite value");
+  if (std::abs(m[0][3]) > 1e-6 || std::abs(m[1][3]) > 1e-6 || std::abs(m[2][3]) > 1e-6 || std::abs(m[3][3] - 1.0) > 1e-6)
+    fail(where + ": the camera pose's last row is not (0 0 0 1)");
+  glm::dmat3 r(m);
+  glm::dmat3 rtr = glm::transpose(r) * r;
+  double worst = 0;
+  for (int c = 0; c < 3; c++)
+    for (int k = 0; k < 3; k++) worst = std::max(worst, std::abs(rtr[c][k] - (c == k ? 1.0 : 0.0)));
+  if (worst > 1e-3) fail(where + ": the camera rotation is not orthonormal (|R^T R - I| = " + std::to_string(worst) + ")");
+  if (glm::determinant(r) < 0) fail(where + ": the camera rotation is a reflection (determinant -1)");
+}
+
+}  // namespace refrax

@@ -1,0 +1,113 @@
+#pragma once
+// Posed image datasets: the NeRF/Blender format (transforms_<split>.json) and LLFF
+// (poses_bounds.npy, as NeRFrac's dataset), plus the water metadata (water.json).
+//
+// World frame: Z up, out of the water; cameras in the Blender/NeRF convention (engine/camera.h:
+// camera-to-world columns right, up, back; the camera looks down its -Z).
+//
+// Blender: transforms_train.json (required), transforms_test.json and any other
+//   transforms_<name>.json (extra splits). Intrinsics: camera_angle_x (fx = w / (2 tan(angle/2)),
+//   fy from camera_angle_y when given, else fx), or fl_x / fl_y / cx / cy / w / h (instant-ngp);
+//   a frame may override any of them. Principal point defaults to the image centre. frames[i]:
+//   file_path (relative to the dataset folder, with or without extension: .png .jpg .jpeg are
+//   tried) and transform_matrix (4x4 camera-to-world). RGBA images are composited on the
+//   background colour; grey images become RGB. Poses are used as given.
+//
+// LLFF (poses_bounds.npy, N x 17, with images/ or images_<factor>/): each row is a 3x5 matrix
+//   [R | t | hwf] row-major, then the near and far bounds. Conventions, following NeRF's
+//   load_llff.py that NeRFrac uses (recenter=True, bd_factor=0.75, spherify=False):
+//   1. R's columns are the camera's [down, right, back] axes; they become [right, up, back]
+//      = [col1, -col0, col2] (Blender/NeRF convention).
+//   2. hwf = (height, width, focal) at the full resolution; focal / factor for images_<factor>,
+//      principal point at the image centre; the images' size must match height / factor and
+//      width / factor (rounded either way).
+//   3. Scale: translations and bounds are multiplied by s = 1 / (0.75 * min near bound).
+//   4. Recentring: the average pose A (centre = mean position, back = normalised sum of back
+//      axes, right = normalise(sum of up axes x back), up = back x right) is mapped to the
+//      identity: every camera-to-world becomes inverse(A) * C. So the mean camera sits at the
+//      origin looking down -Z: for cameras looking down at water, Z is up.
+//   Dataset::normalization holds the whole map, world_loaded = normalization * world_original.
+//   Images are sorted by file name and paired with the rows in order. Test views: every
+//   llffHold-th image from the first (0, 8, 16, ... for the default 8), the others train.
+//
+// water.json (optional, in the dataset folder; values in the loaded world frame): {"ior": 1.33,
+//   "height": -1.0, "depth": 2.0, "domain": [xmin, ymin, xmax, ymax]}; every field optional,
+//   DatasetOptions override each one.
+//
+// Every problem is one refrax::Error naming the file: missing or undecodable image, image of
+// the wrong size, malformed JSON, missing field, non-finite pose, non-orthonormal rotation,
+// empty split, images and poses not matching in number.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/camera.h"
+#include "engine/io/image_io.h"
+
+namespace refrax {
+
+struct View {
+  std::string name;       // file name (relative to the dataset folder)
+  Camera camera;
+  Image image;            // RGB, composited
+  double nearBound = 0;   // LLFF bounds along the view axis in the loaded frame; 0 when unknown
+  double farBound = 0;
+};
+
+struct Rect {
+  double xMin = 0, yMin = 0, xMax = 0, yMax = 0;
+};
+
+struct WaterMetadata {
+  double ior = 1.33;
+  std::optional<double> height;  // initial (mean) water height, world z
+  std::optional<double> depth;   // how far under the water the scene reaches
+  std::optional<Rect> domain;    // the height field's domain in x, y
+};
+
+struct DatasetOptions {
+  glm::dvec3 background{0.0, 0.0, 0.0};  // for RGBA images
+  int llffFactor = 1;                    // images_<factor>/ (1: images/)
+  int llffHold = 8;                      // every llffHold-th LLFF image is a test view
+  // Overrides of water.json (command-line options).
+  std::optional<double> ior, waterHeight, waterDepth;
+  std::optional<Rect> domain;
+};
+
+struct Dataset {
+  std::string root;
+  std::string format;                             // "blender" or "llff"
+  std::map<std::string, std::vector<View>> splits;  // "train", "test", ...
+  WaterMetadata water;
+  glm::dmat4 normalization{1.0};                  // original world -> loaded world (LLFF)
+
+  const std::vector<View>& split(const std::string& name) const;  // refrax::Error when absent
+};
+
+// Detects the format (transforms_train.json: Blender; poses_bounds.npy: LLFF).
+Dataset loadDataset(const std::string& folder, const DatasetOptions& options = {});
+Dataset loadBlenderDataset(const std::string& folder, const DatasetOptions& options = {});
+Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options = {});
+
+// water.json of the folder (defaults when absent) with the options' overrides applied.
+WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions& options = {});
+
+// Checks a camera-to-world matrix: finite, rotation orthonormal (within 1e-3, either
+// handedness is refused if not a proper rotation: det > 0), last row (0 0 0 1).
+void validateCameraToWorld(const glm::dmat4& cameraToWorld, const std::string& where);
+
+// The LLFF conventions above as a pure function: rows of poses_bounds.npy (17 values each)
+// to cameras (focal divided by `factor`, size from width/height given) and bounds, scaled and
+// recentred; `normalization` receives the map from the original frame.
+struct LlffCameras {
+  std::vector<Camera> cameras;
+  std::vector<double> nearBounds, farBounds;
+  glm::dmat4 normalization{1.0};
+};
+LlffCameras llffCameras(const std::vector<double>& posesBounds, size_t count, int factor, int imageWidth, int imageHeight,
+                        const std::string& where);
+
+}  // namespace refrax

@@ -1,0 +1,32 @@
+#include "engine/dataset/view_image.h"
+
+#include "engine/error.h"
+#include "engine/io/atomic_file.h"
+
+namespace refrax {
+
+Image loadViewImage(const std::string& path, int expectWidth, int expectHeight, const glm::dvec3& background, const std::string& where) {
+  if (!fileExists(path)) fail(where + ": image " + path + " does not exist");
+  Image in = readPng(path);
+  if ((expectWidth > 0 && in.width != expectWidth) || (expectHeight > 0 && in.height != expectHeight))
+    fail(where + ": image " + path + " is " + std::to_string(in.width) + "x" + std::to_string(in.height) + ", expected " +
+         std::to_string(expectWidth) + "x" + std::to_string(expectHeight));
+  Image out;
+  out.width = in.width;
+  out.height = in.height;
+  out.channels = 3;
+  out.pixels.resize(size_t(in.width) * in.height * 3);
+  const bool hasAlpha = in.channels == 2 || in.channels == 4;
+  const int colour = in.channels >= 3 ? 3 : 1;
+  for (size_t p = 0; p < size_t(in.width) * in.height; p++) {
+    const float* src = &in.pixels[p * in.channels];
+    float a = hasAlpha ? src[in.channels - 1] : 1.0f;
+    for (int c = 0; c < 3; c++) {
+      float v = src[colour == 3 ? c : 0];
+      out.pixels[p * 3 + c] = hasAlpha ? float(v * a + background[c] * (1.0 - a)) : v;
+    }
+  }
+  return out;
+}
+
+}  // namespace refrax

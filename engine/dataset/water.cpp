@@ -1,0 +1,43 @@
+#include <cmath>
+
+#include "engine/dataset/dataset.h"
+#include "engine/error.h"
+#include "engine/io/atomic_file.h"
+#include "engine/dataset/dataset_json.h"
+#include "engine/io/json_io.h"
+
+namespace refrax {
+
+WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions& options) {
+  WaterMetadata w;
+  const std::string path = folder + "/water.json";
+  if (fileExists(path)) {
+    nlohmann::json j = readDatasetJson(path);
+    if (!j.is_object()) fail(path + ": expected a JSON object");
+    if (j.contains("ior")) w.ior = requireNumber(j, "ior", path);
+    if (j.contains("height")) w.height = requireNumber(j, "height", path);
+    if (j.contains("depth")) w.depth = requireNumber(j, "depth", path);
+    if (j.contains("domain")) {
+      const auto& d = j["domain"];
+      if (!d.is_array() || d.size() != 4) fail(path + ": 'domain' must be [xmin, ymin, xmax, ymax]");
+      double v[4];
+      for (int i = 0; i < 4; i++) {
+        if (!d[i].is_number() || !std::isfinite(d[i].get<double>())) fail(path + ": 'domain' must hold four finite numbers");
+        v[i] = d[i].get<double>();
+      }
+      w.domain = Rect{v[0], v[1], v[2], v[3]};
+    }
+  }
+  if (options.ior) w.ior = *options.ior;
+  if (options.waterHeight) w.height = *options.waterHeight;
+  if (options.waterDepth) w.depth = *options.waterDepth;
+  if (options.domain) w.domain = *options.domain;
+  if (!std::isfinite(w.ior) || w.ior < 1.0) fail(path + ": the index of refraction must be a finite number >= 1, got " + std::to_string(w.ior));
+  if (w.height && !std::isfinite(*w.height)) fail(path + ": the water height is not finite");
+  if (w.depth && !(*w.depth > 0 && std::isfinite(*w.depth))) fail(path + ": the water depth must be positive");
+  if (w.domain && !(w.domain->xMax > w.domain->xMin && w.domain->yMax > w.domain->yMin))
+    fail(path + ": the surface domain is empty (need xmin < xmax and ymin < ymax)");
+  return w;
+}
+
+}  // namespace refrax

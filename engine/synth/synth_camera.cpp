@@ -1,0 +1,66 @@
+#include "engine/synth/synth_camera.h"
+
+#include <cmath>
+
+namespace refrax::synth {
+
+namespace {
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+SynthCamera withIntrinsics(int width, int height, double fovX) {
+  SynthCamera c;
+  c.width = width;
+  c.height = height;
+  c.fx = c.fy = 0.5 * width / std::tan(0.5 * fovX);
+  c.cx = 0.5 * width;
+  c.cy = 0.5 * height;
+  return c;
+}
+
+void setAxes(SynthCamera& c, const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& back, const glm::dvec3& eye) {
+  c.cameraToWorld = glm::dmat4(glm::dvec4(right, 0), glm::dvec4(up, 0), glm::dvec4(back, 0), glm::dvec4(eye, 1));
+}
+}  // namespace
+
+glm::dvec3 cameraCentre(const SynthCamera& cam) { return glm::dvec3(cam.cameraToWorld[3]); }
+
+glm::dvec3 cameraRayDirection(const SynthCamera& cam, double px, double py) {
+  glm::dvec3 local((px - cam.cx) / cam.fx, -(py - cam.cy) / cam.fy, -1.0);
+  return glm::normalize(glm::dvec3(cam.cameraToWorld * glm::dvec4(local, 0.0)));
+}
+
+SynthCamera lookAtCamera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& worldUp, int width, int height, double fovX) {
+  SynthCamera c = withIntrinsics(width, height, fovX);
+  glm::dvec3 back = glm::normalize(eye - target);
+  glm::dvec3 right = glm::normalize(glm::cross(worldUp, back));
+  glm::dvec3 up = glm::cross(back, right);
+  setAxes(c, right, up, back, eye);
+  return c;
+}
+
+SynthCamera downwardCamera(const glm::dvec3& eye, int width, int height, double fovX) {
+  SynthCamera c = withIntrinsics(width, height, fovX);
+  setAxes(c, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, eye);
+  return c;
+}
+
+std::vector<SynthCamera> ringCameras(int count, double polarDeg, double radius, double azimuthDeg, const glm::dvec3& target, int width,
+                                     int height, double fovX) {
+  std::vector<SynthCamera> cams;
+  for (int i = 0; i < count; i++) {
+    double phi = (azimuthDeg + 360.0 * i / count) * kDeg, theta = polarDeg * kDeg;
+    glm::dvec3 eye = target + radius * glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    cams.push_back(lookAtCamera(eye, target, {0, 0, 1}, width, height, fovX));
+  }
+  return cams;
+}
+
+std::vector<SynthCamera> gridCameras(double cx, double cy, double z, double spacing, int width, int height, double fovX) {
+  std::vector<SynthCamera> cams;
+  for (int row = 0; row < 3; row++)
+    for (int col = 0; col < 3; col++)
+      cams.push_back(downwardCamera({cx + (col - 1) * spacing, cy + (1 - row) * spacing, z}, width, height, fovX));
+  return cams;
+}
+
+}  // namespace refrax::synth

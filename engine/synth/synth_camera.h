@@ -1,0 +1,30 @@
+#pragma once
+// Pinhole cameras and the camera rigs of the synthetic datasets (NeRF/Blender convention:
+// camera-to-world, the camera looks down its -Z with +Y up; pixel centres at i + 0.5).
+#include <glm/glm.hpp>
+#include <vector>
+
+namespace refrax::synth {
+
+struct SynthCamera {
+  glm::dmat4 cameraToWorld{1.0};
+  int width = 0, height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+};
+
+glm::dvec3 cameraCentre(const SynthCamera& cam);
+// Unit world-space direction through image point (px, py) in pixels (y down).
+glm::dvec3 cameraRayDirection(const SynthCamera& cam, double px, double py);
+// Camera at eye looking at target; its +Y is as close to worldUp as possible.
+SynthCamera lookAtCamera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& worldUp, int width, int height, double fovX);
+// Straight down, image +Y (up) along world +Y.
+SynthCamera downwardCamera(const glm::dvec3& eye, int width, int height, double fovX);
+// `count` cameras on a circle at polar angle `polarDeg` from +Z, distance `radius` from target,
+// all looking at target; the first at azimuth `azimuthDeg`.
+std::vector<SynthCamera> ringCameras(int count, double polarDeg, double radius, double azimuthDeg, const glm::dvec3& target, int width,
+                                     int height, double fovX);
+// 3 x 3 grid of downward cameras at height z, centred on (cx, cy), `spacing` apart; row-major
+// from (-x, +y), so index 4 is the centre.
+std::vector<SynthCamera> gridCameras(double cx, double cy, double z, double spacing, int width, int height, double fovX);
+
+}  // namespace refrax::synth

@@ -1,0 +1,250 @@
+#include "engine/synth/synth_presets.h"
+
+#include <cmath>
+#include <map>
+
+#include "engine/error.h"
+#include "engine/io/atomic_file.h"
+#include "engine/io/image_io.h"
+#include "engine/synth/synth_rng.h"
+
+namespace refrax::synth {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+// A stable name hash (std::hash may differ between standard libraries).
+uint64_t fnv1a(const std::string& s) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ull;
+  return h;
+}
+
+struct PresetEntry {
+  std::string name;
+  std::string family;  // "nerfrac" or the RefracGS-like scene
+  bool topdown;
+};
+
+const std::vector<PresetEntry>& presetTable() {
+  static const std::vector<PresetEntry> table = {
+      {"nerfrac-primary-sine", "nerfrac", true}, {"nerfrac-second-sine", "nerfrac", true}, {"nerfrac-hybrid", "nerfrac", true},
+      {"desk", "desk", false},                   {"kitchen", "kitchen", false},           {"toys", "toys", false},
+      {"desk-topdown", "desk", true},            {"kitchen-topdown", "kitchen", true},    {"toys-topdown", "toys", true},
+  };
+  return table;
+}
+
+// One material per call; each texture file is loaded once.
+struct MaterialSet {
+  SynthScene& scene;
+  std::string dir;
+  std::map<std::string, int> textureIndex;
+
+  int get(const std::string& stem, glm::dvec2 uvScale = {1, 1}, glm::dvec3 tint = {1, 1, 1}) {
+    auto it = textureIndex.find(stem);
+    int tex;
+    if (it == textureIndex.end()) {
+      tex = int(scene.textures.size());
+      scene.textures.push_back(loadSynthTexture(dir, stem));
+      textureIndex[stem] = tex;
+    } else {
+      tex = it->second;
+    }
+    scene.materials.push_back({tex, uvScale, tint});
+    return int(scene.materials.size()) - 1;
+  }
+};
+
+DirectionalWave sineAlong(double amplitude, double wavelength, double directionDeg, double phase) {
+  double k = 2 * kPi / wavelength;
+  return {amplitude, k * std::cos(directionDeg * kDeg), k * std::sin(directionDeg * kDeg), phase};
+}
+
+// ---- NeRFrac-like: a pool floor 0.5 under the water with a picture and a few objects.
+void buildNerfracScene(SynthPreset& p, MaterialSet& mats, bool tiny) {
+  int seg = tiny ? 12 : 48;
+  SceneBuilder b;
+  b.floorRect(-4, -4, 4, 4, -0.52, mats.get("brick", {16, 16}));
+  b.box({0, 0, -0.51}, {0.6, 0.6, 0.01}, 0, mats.get("gravel"), mats.get("astronaut"));
+  b.box({0.28, 0.22, -0.44}, {0.09, 0.07, 0.06}, 0.4, mats.get("coffee"));
+  b.sphere({-0.25, -0.2, -0.4}, 0.1, mats.get("chelsea", {2, 1}), seg);
+  b.cylinder({0.22, -0.28, -0.5}, 0.06, 0.14, mats.get("rocket", {2, 1}), seg, mats.get("clock"));
+  if (!tiny) {
+    b.box({-0.3, 0.3, -0.47}, {0.06, 0.06, 0.03}, -0.3, mats.get("camera"));
+    b.sphere({0.0, 0.38, -0.45}, 0.05, mats.get("hubble_deep_field"), seg);
+  }
+  p.scene.bvh = buildTriangleBvh(std::move(b.triangles));
+}
+
+void setNerfracWater(SynthPreset& p, const std::string& name, SynthRng& rng) {
+  WaveSurface& w = p.water;
+  w.meanHeight = 0;
+  w.domain[0] = w.domain[1] = -1;
+  w.domain[2] = w.domain[3] = 1;
+  auto phase = [&] { return 2 * kPi * rng.uniform(); };
+  if (name == "nerfrac-primary-sine") {
+    w.waves = {sineAlong(0.025, 0.5, 30, phase())};
+    p.surfaceDescription = "one directional sine";
+  } else if (name == "nerfrac-second-sine") {
+    w.waves = {sineAlong(0.02, 0.5, 0, phase()), sineAlong(0.015, 0.35, 90, phase())};
+    p.surfaceDescription = "two crossed directional sines";
+  } else {
+    w.waves = {sineAlong(0.02, 0.6, 20, phase())};
+    w.ripples = {{0.02, 0.1, -0.05, 2 * kPi / 0.2, 0.35}};
+    p.surfaceDescription = "a directional sine plus a radial ripple";
+  }
+}
+
+// ---- RefracGS-like: 1.5 m x 1.5 m pool, floor 0.7 under the water, objects up to 0.45 tall.
+void buildRefracgsScene(SynthPreset& p, MaterialSet& mats, const std::string& family, bool tiny) {
+  int seg = tiny ? 12 : 48;
+  SceneBuilder b;
+  b.floorRect(-6, -6, 6, 6, -0.72, mats.get("gravel", {24, 24}, {0.85, 0.78, 0.62}));  // sand
+  if (family == "desk") {
+    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("brick"), mats.get("brick", {3, 3}, {0.95, 0.6, 0.45}));
+    b.box({0.05, 0.1, -0.55}, {0.45, 0.3, 0.15}, 0.1, mats.get("camera", {1, 1}, {0.8, 0.65, 0.45}), mats.get("text", {1, 1}, {1.0, 0.95, 0.8}));
+    b.cylinder({0.3, 0.2, -0.4}, 0.05, 0.12, mats.get("coffee", {2, 1}), seg, mats.get("clock"));
+    b.sphere({-0.2, 0.05, -0.3}, 0.1, mats.get("hubble_deep_field"), seg);
+    b.box({0.0, -0.05, -0.38}, {0.12, 0.09, 0.02}, -0.3, mats.get("gravel"), mats.get("astronaut"));
+    if (!tiny) {
+      b.box({-0.5, -0.5, -0.6}, {0.12, 0.12, 0.1}, 0.5, mats.get("chelsea"));
+      b.cylinder({0.55, -0.45, -0.7}, 0.08, 0.25, mats.get("rocket", {2, 1}), seg, mats.get("coffee"));
+    }
+  } else if (family == "kitchen") {
+    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("gravel"), mats.get("text", {4, 8}, {0.6, 0.75, 0.95}));
+    b.cylinder({-0.3, 0.25, -0.7}, 0.08, 0.3, mats.get("coffee", {2, 1}), seg, mats.get("clock"));
+    b.cylinder({0.25, 0.3, -0.7}, 0.07, 0.22, mats.get("rocket", {2, 1}), seg, mats.get("gravel", {1, 1}, {0.9, 0.3, 0.3}));
+    b.box({0.2, -0.25, -0.55}, {0.15, 0.06, 0.15}, 0.6, mats.get("chelsea"), mats.get("brick", {1, 1}, {0.95, 0.85, 0.4}));
+    b.sphere({-0.25, -0.3, -0.6}, 0.1, mats.get("coffee"), seg);
+    if (!tiny) {
+      b.box({0.5, 0.0, -0.62}, {0.1, 0.2, 0.08}, -0.2, mats.get("astronaut"), mats.get("camera", {1, 1}, {0.5, 0.8, 0.6}));
+      b.cylinder({0.0, 0.0, -0.7}, 0.12, 0.05, mats.get("brick", {3, 1}), seg, mats.get("hubble_deep_field"));
+      b.sphere({-0.55, 0.0, -0.64}, 0.06, mats.get("chelsea"), seg);
+    }
+  } else {  // toys
+    b.box({0, 0, -0.71}, {0.75, 0.75, 0.01}, 0, mats.get("grass"), mats.get("grass", {2, 2}, {0.45, 0.85, 0.35}));
+    b.sphere({-0.25, 0.2, -0.55}, 0.15, mats.get("astronaut", {2, 1}), seg);
+    b.sphere({0.3, -0.1, -0.6}, 0.1, mats.get("chelsea", {2, 1}), seg);
+    b.box({0.1, 0.35, -0.6}, {0.1, 0.1, 0.1}, 0.3, mats.get("clock", {1, 1}, {0.4, 0.6, 1.0}), mats.get("camera", {1, 1}, {1.0, 0.85, 0.3}));
+    b.cylinder({-0.2, -0.3, -0.7}, 0.05, 0.4, mats.get("rocket", {1, 1}), seg, mats.get("coffee"));
+    if (!tiny) {
+      b.box({0.35, 0.3, -0.65}, {0.05, 0.05, 0.05}, -0.5, mats.get("brick", {1, 1}, {1.0, 0.4, 0.4}));
+      b.box({0.45, -0.45, -0.64}, {0.07, 0.07, 0.07}, 0.2, mats.get("hubble_deep_field"));
+      b.sphere({-0.5, -0.5, -0.65}, 0.06, mats.get("coffee"), seg);
+    }
+  }
+  p.scene.bvh = buildTriangleBvh(std::move(b.triangles));
+}
+
+// Many directional waves drawn from a spectrum: log-uniform wavelengths, directions spread
+// around a random wind direction, amplitude ~ wavelength^1.5 (long waves carry the energy),
+// scaled so that the surface's RMS slope is `rmsSlope`.
+void setSpectrumWater(SynthPreset& p, SynthRng& rng, int count, double rmsSlope) {
+  WaveSurface& w = p.water;
+  w.meanHeight = 0;
+  w.domain[0] = w.domain[1] = -1.5;
+  w.domain[2] = w.domain[3] = 1.5;
+  double wind = 360 * rng.uniform();
+  double slope2 = 0;
+  for (int i = 0; i < count; i++) {
+    double wavelength = 0.12 * std::pow(0.7 / 0.12, rng.uniform());
+    double direction = wind + 40 * rng.normal();
+    double amplitude = std::pow(wavelength, 1.5) * (0.6 + 0.8 * rng.uniform());
+    w.waves.push_back(sineAlong(amplitude, wavelength, direction, 2 * kPi * rng.uniform()));
+    double ak = amplitude * 2 * kPi / wavelength;
+    slope2 += 0.5 * ak * ak;
+  }
+  double scale = rmsSlope / std::sqrt(slope2);
+  for (auto& wave : w.waves) wave.amplitude *= scale;
+  p.surfaceDescription = std::to_string(count) + " directional sines from a spectrum (wavelengths 0.12-0.7 m log-uniform, directions "
+                         "spread 40 deg around a random wind, amplitude ~ wavelength^1.5, RMS slope " +
+                         std::to_string(rmsSlope).substr(0, 4) + ")";
+}
+
+}  // namespace
+
+std::vector<std::string> synthPresetNames() {
+  std::vector<std::string> names;
+  for (const auto& e : presetTable()) names.push_back(e.name);
+  return names;
+}
+
+bool isSynthPreset(const std::string& name) {
+  for (const auto& e : presetTable())
+    if (e.name == name) return true;
+  return false;
+}
+
+SynthTexture loadSynthTexture(const std::string& textureDir, const std::string& stem) {
+  std::string path = textureDir + "/" + stem + ".png";
+  if (!fileExists(path)) fail("texture " + path + " not found (pass --textures DIR pointing at the repository's assets/textures)");
+  Image img = readPng(path);
+  SynthTexture t;
+  t.name = stem;
+  t.width = img.width;
+  t.height = img.height;
+  t.rgb.resize(size_t(img.width) * img.height * 3);
+  for (int y = 0; y < img.height; y++)
+    for (int x = 0; x < img.width; x++)
+      for (int c = 0; c < 3; c++) t.rgb[(size_t(y) * img.width + x) * 3 + c] = img.at(x, y, img.channels >= 3 ? c : 0);
+  return t;
+}
+
+SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t seed, const std::string& textureDir) {
+  const PresetEntry* entry = nullptr;
+  for (const auto& e : presetTable())
+    if (e.name == name) entry = &e;
+  if (!entry) fail("unknown synth preset '" + name + "'");
+  bool tiny = size == SynthSize::Tiny;
+  SynthPreset p;
+  p.name = name;
+  p.samplesPerAxis = 2;
+  p.heightMapSize = tiny ? 64 : 512;
+  p.meshGridSize = tiny ? 33 : 257;
+  MaterialSet mats{p.scene, textureDir, {}};
+  SynthRng rng(mixKeys(seed, fnv1a(name)));
+  if (entry->family == "nerfrac") {
+    p.ior = 1.1;
+    p.writeLlff = true;
+    buildNerfracScene(p, mats, tiny);
+    setNerfracWater(p, name, rng);
+    int w = tiny ? 64 : 392;
+    auto grid = gridCameras(0, 0, 1.0, 0.2, w, w, 45 * kDeg);
+    for (int i = 0; i < 9; i++) (i == 4 ? p.test : p.train).push_back(grid[i]);
+    p.air = p.test;  // the water-removal view is the held-out centre view
+    p.description = "NeRFrac-like synthetic scene: 3 x 3 downward cameras, centre held out, IOR 1.1, " + p.surfaceDescription;
+  } else {
+    p.ior = 1.33;
+    buildRefracgsScene(p, mats, entry->family, tiny);
+    setSpectrumWater(p, rng, tiny ? 6 : 24, 0.12);
+    int w = tiny ? 64 : 400, h = w * 3 / 4;
+    double fov = 50 * kDeg;
+    glm::dvec3 centre(0, 0, -0.35);
+    if (entry->topdown) {
+      auto grid = gridCameras(0, 0, 1.3, 0.25, w, h, fov);
+      for (int i = 0; i < 9; i++) (i == 4 ? p.test : p.train).push_back(grid[i]);
+      p.air = p.test;
+      p.description = "RefracGS-like '" + entry->family + "' scene, 9 downward cameras (centre held out), IOR 1.33";
+    } else {
+      p.train = ringCameras(12, 30, 2.0, 0, centre, w, h, fov);
+      auto outer = ringCameras(12, 45, 2.0, 15, centre, w, h, fov);
+      p.train.insert(p.train.end(), outer.begin(), outer.end());
+      p.test = ringCameras(6, 35, 2.0, 30, centre, w, h, fov);
+      p.air = ringCameras(6, 30, 1.4, 0, centre, w, h, fov);
+      p.description = "RefracGS-like '" + entry->family +
+                      "' scene: 24 training views on rings at 30 and 45 deg, 6 test views at 35 deg, 6 water-removal views at 30 deg "
+                      "nearer the centre, IOR 1.33";
+    }
+  }
+  // Every object must lie below the lowest trough (see render_view.cpp).
+  double top = -1e300;
+  for (const auto& t : p.scene.bvh.triangles)
+    for (const auto& v : t.p) top = std::max(top, v.z);
+  if (top >= p.water.meanHeight - waveHeightBound(p.water)) fail("synth preset " + name + ": scene reaches into the water surface");
+  return p;
+}
+
+}  // namespace refrax::synth

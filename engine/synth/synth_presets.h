@@ -1,0 +1,39 @@
+#pragma once
+// The synthetic dataset presets: analogs of NeRFrac's synthetic scenes (3 x 3 downward rig,
+// IOR 1.1, sine-based water) and of RefracGS's scenes (1.5 m x 1.5 m x 1 m, IOR 1.33, a
+// rippled surface drawn from a wave spectrum, surround rings plus a downward variant).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/synth/scene_builder.h"
+#include "engine/synth/synth_camera.h"
+#include "engine/synth/wave_surface.h"
+
+namespace refrax::synth {
+
+enum class SynthSize { Tiny, Full };
+
+struct SynthPreset {
+  std::string name;
+  std::string description;
+  std::string surfaceDescription;  // how the water was made, for water.json
+  double ior = 1.33;
+  WaveSurface water;
+  SynthScene scene;
+  std::vector<SynthCamera> train, test, air;  // air: water-removal views (rendered without water)
+  bool writeLlff = false;                     // NeRFrac's poses_bounds.npy + images/ layout
+  int samplesPerAxis = 2;
+  int heightMapSize = 512;  // samples per side of water_gt_height.npy
+  int meshGridSize = 257;   // vertices per side of water_gt.gltf
+};
+
+std::vector<std::string> synthPresetNames();
+bool isSynthPreset(const std::string& name);
+// Builds the named preset; textures are read from textureDir (assets/textures).
+// refrax::Error on an unknown name or a missing texture.
+SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t seed, const std::string& textureDir);
+// Textures by file stem from textureDir, as RGB.
+SynthTexture loadSynthTexture(const std::string& textureDir, const std::string& stem);
+
+}  // namespace refrax::synth

@@ -1,0 +1,95 @@
+// refrax synth: generates a synthetic dataset with ground-truth water (NeRFrac-like and
+// RefracGS-like presets) on the CPU, with a renderer that shares no code with the trainer.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <unistd.h>
+
+#include "engine/error.h"
+#include "engine/synth/synth_dataset.h"
+#include "engine/synth/synth_presets.h"
+#include "trainer/cli.h"
+
+namespace fs = std::filesystem;
+
+namespace refrax {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void onInterrupt(int) { g_interrupted.store(true); }
+
+std::string presetList() {
+  std::string s;
+  for (const auto& n : synth::synthPresetNames()) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+bool hasTextures(const fs::path& dir) { return fs::exists(dir / "astronaut.png"); }
+
+// --textures, then REFRAX_TEXTURES, then assets/textures next to or above the executable,
+// then the source tree this binary was built from.
+std::string findTextureDir(const cli::Args& args) {
+  if (args.has("textures")) return args.get("textures");
+  if (const char* env = std::getenv("REFRAX_TEXTURES")) return env;
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    for (fs::path d = exe.parent_path(); !d.empty() && d != d.parent_path(); d = d.parent_path())
+      if (hasTextures(d / "assets" / "textures")) return (d / "assets" / "textures").string();
+  fs::path source = fs::path(__FILE__).parent_path().parent_path() / "assets" / "textures";
+  if (hasTextures(source)) return source.string();
+  fail("synth: cannot find assets/textures; pass --textures DIR or set REFRAX_TEXTURES");
+}
+
+int runSynth(const cli::Args& args) {
+  // The shared parser maps `-o DIR` to --output DIR.
+  std::vector<std::string> names;
+  std::string out = args.get("output");
+  for (const auto& p : args.positional) {
+    if (p.size() > 1 && p[0] == '-') fail("synth: unknown option " + p + " (see --help)");
+    names.push_back(p);
+  }
+  if (names.size() != 1) fail("synth: expected one preset name (" + presetList() + ")");
+  const std::string name = names[0];
+  if (!synth::isSynthPreset(name)) fail("synth: unknown preset '" + name + "' (known: " + presetList() + ")");
+  if (out.empty()) fail("synth: -o DIR is required");
+  std::string size = args.get("size", "full");
+  if (size != "tiny" && size != "full") fail("synth: --size must be tiny or full, got '" + size + "'");
+  long seed = args.getInt("seed", 1);
+  if (seed < 0) fail("synth: --seed must be a non-negative integer");
+  synth::checkSynthOutputDir(out);
+
+  auto start = std::chrono::steady_clock::now();
+  synth::SynthPreset preset = synth::makeSynthPreset(name, size == "tiny" ? synth::SynthSize::Tiny : synth::SynthSize::Full,
+                                                     uint64_t(seed), findTextureDir(args));
+  synth::SynthWriteOptions o;
+  o.seed = uint64_t(seed);
+  o.sizeName = size;
+  o.progress = size == "full";
+  // Stop between views on Ctrl-C so the temporary folder is removed rather than left behind.
+  o.cancel = &g_interrupted;
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
+  std::printf("synth %s (%s, seed %ld): %zu train, %zu test, %zu air views, %d x %d px, %zu triangles -> %s\n", name.c_str(), size.c_str(),
+              seed, preset.train.size(), preset.test.size(), preset.air.size(), preset.train.front().width, preset.train.front().height,
+              preset.scene.bvh.triangles.size(), out.c_str());
+  std::fflush(stdout);
+  synth::generateSynthDataset(preset, out, o);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("synth %s: done in %.1f s\n", name.c_str(), seconds);
+  return 0;
+}
+
+REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-truth water (CPU)",
+                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--textures DIR]\n       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown",
+                {{"output", "DIR", "(or -o DIR) output folder; must not exist or be empty; appears only when complete", ""},
+                 {"size", "tiny|full", "tiny: small images and simple geometry for CI", "full"},
+                 {"seed", "N", "seed for the wave phases / spectrum and the antialiasing jitter", "1"},
+                 {"textures", "DIR", "texture folder (also REFRAX_TEXTURES); default: the repository's assets/textures", ""}},
+                runSynth});
+
+}  // namespace
+}  // namespace refrax

@@ -1,0 +1,65 @@
+#include "trainer/dataset_options.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "engine/error.h"
+
+namespace refrax {
+
+std::vector<cli::Option> datasetOptions() {
+  return {
+      {"ior", "X", "index of refraction of the water (overrides water.json)", "water.json, else 1.33"},
+      {"water-height", "Z", "initial (mean) water height, world z (overrides water.json)", ""},
+      {"water-depth", "D", "how far under the water the scene reaches (overrides water.json)", "derived"},
+      {"domain", "X0,Y0,X1,Y1", "height-field domain (overrides water.json)", "derived from the cameras"},
+      {"background", "R,G,B", "colour RGBA images are composited on, in [0,1]", "0,0,0"},
+      {"llff-factor", "N", "LLFF: read images_<N>/ (1: images/)", "1"},
+      {"llff-hold", "N", "LLFF: every N-th image (from the first) is a test view", "8"},
+  };
+}
+
+namespace {
+
+// `count` comma-separated finite numbers, or one clear error naming the option.
+std::vector<double> parseNumbers(const std::string& text, size_t count, const std::string& what, const std::string& shape) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  bool ok = true;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    double d = std::strtod(item.c_str(), &end);
+    ok = ok && !item.empty() && !*end && std::isfinite(d);
+    v.push_back(d);
+  }
+  if (!ok || v.size() != count) fail(what + " expects " + shape + ", got '" + text + "'");
+  return v;
+}
+
+}  // namespace
+
+Rect parseRect(const std::string& text, const std::string& what) {
+  auto v = parseNumbers(text, 4, what, "four numbers x0,y0,x1,y1");
+  return {v[0], v[1], v[2], v[3]};
+}
+
+DatasetOptions datasetOptionsFrom(const cli::Args& args) {
+  DatasetOptions o;
+  if (args.has("ior")) o.ior = args.getDouble("ior", 1.33);
+  if (args.has("water-height")) o.waterHeight = args.getDouble("water-height", 0);
+  if (args.has("water-depth")) o.waterDepth = args.getDouble("water-depth", 1);
+  if (args.has("domain")) o.domain = parseRect(args.get("domain"), "--domain");
+  if (args.has("background")) {
+    auto c = parseNumbers(args.get("background"), 3, "--background", "three numbers in [0,1] as R,G,B");
+    for (double x : c)
+      if (x < 0 || x > 1) fail("--background expects three numbers in [0,1] as R,G,B, got '" + args.get("background") + "'");
+    o.background = glm::dvec3(c[0], c[1], c[2]);
+  }
+  o.llffFactor = int(args.getInt("llff-factor", 1));
+  o.llffHold = int(args.getInt("llff-hold", 8));
+  return o;
+}
+
+}  // namespace refrax
