@@ -181,6 +181,10 @@ GPU_TEST_CASE("Gaussian tracer refuses bad input with one clear error") {
   GaussianSet bad = set;
   bad.at(3)[2] = std::nanf("");
   CHECK_THROWS_AS(validateGaussians(bad, "test"), Error);
+  CHECK_THROWS_WITH_AS(uploadGaussians(ctx, bad), doctest::Contains("non-finite"), Error);
+  GaussianSet zeroRotation = set;
+  for (int a = 0; a < 4; a++) zeroRotation.at(1)[3 + a] = 0.0f;
+  CHECK_THROWS_WITH_AS(updateGaussians(ctx, dev, zeroRotation), doctest::Contains("zero rotation"), Error);
 }
 
 TEST_CASE("the tracer's precision-matrix kernel equals the M-form kernel of the reference") {
