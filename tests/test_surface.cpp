@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <set>
 
 #include "engine/reference/surface_ref.h"
 #include "engine/surface_math.h"
@@ -199,6 +200,19 @@ GPU_TEST_CASE("a shared vertex gets bitwise-identical normals from every triangl
   CHECK(sharedBy3 > 100);  // the check means something: many vertices asked for by 3+ triangles
   CHECK(mismatches == 0);
   CHECK(worstRef < 1e-5);
+  // H was evaluated once per point: the queued points are distinct and off the coarse lattice
+  uint32_t np = run.counters.points;
+  auto pts = downloadVector<float>(ctx, ws.points, size_t(np) * 2);
+  std::set<std::pair<long, long>> unique;
+  size_t coarse = 0;
+  for (uint32_t k = 0; k < np; k++) {
+    long X = std::lround((pts[2 * k] - cfg.domain.x0) / ws.spacingX), Y = std::lround((pts[2 * k + 1] - cfg.domain.y0) / ws.spacingY);
+    unique.insert({X, Y});
+    coarse += (X % 4 == 0) && (Y % 4 == 0);
+  }
+  CHECK(np > 100);
+  CHECK(unique.size() == np);
+  CHECK(coarse == 0);
 }
 
 GPU_TEST_CASE("bad surface input: clear errors, flagged rays, empty rays for invalid input") {
