@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "engine/height_field_source.h"
 #include "engine/reference/surface_ref.h"
 #include "engine/surface_math.h"
 #include "tests/gpu_test.h"
@@ -156,6 +157,77 @@ GPU_TEST_CASE("subdivision tracing stays within the interpolation bound of the e
     CHECK(fallback < rays.size() / 50);
   }
   MESSAGE(table);
+}
+
+GPU_TEST_CASE("subdivision tracing on the MLP surface: exact intersection and interpolation bound over 10k rays") {
+  HeightFieldConfig hc;
+  hc.width = 32;
+  hc.hiddenLayers = 3;
+  hc.octaves = 2;
+  hc.lastLayerInitRange = 0.05f;  // ripples of a few hundredths: a water-like slope range
+  HeightField hf = createHeightField(ctx, hc, rng());
+  std::vector<float> wf = downloadWeights(ctx, hf);
+  std::vector<double> wd(wf.begin(), wf.end());
+  auto H = [&](double x, double y) { return heightReference(hc, wd, x, y); };
+  WaterSurfaceConfig cfg;
+  cfg.gridCells = 16;
+  cfg.subdivisionLevels = 2;
+  cfg.maxRays = 10000;
+  WaterSurface ws = createWaterSurface(ctx, cfg);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, hf); });
+  auto rays = test::raysFromAbove(rng, cfg.maxRays, 0.95f);
+  auto run = test::runSurface(ctx, ws, heightSource(hf), rays);
+  // The MLP (Leaky ReLU) is not twice differentiable everywhere: across a kink the "second
+  // derivative" is a gradient jump J, and linear interpolation over a span h errs by up to
+  // J h / 4. The second-difference quotient at half the spacing, s = h/2, sees such a kink as
+  // J / s, so M = max |f(x+s) - 2 f(x) + f(x-s)| / s^2 (along x, y and the diagonal, sampled
+  // every h/4 over the domain) makes M (hx^2 + hy^2) / 8 cover kinks as well as curvature.
+  const double h = 2.0 / double(cfg.gridCells << cfg.subdivisionLevels), s = h / 2;
+  double M = 0;
+  for (double y = -1; y <= 1; y += h / 4)
+    for (double x = -1; x <= 1; x += h / 4) {
+      double c = H(x, y);
+      M = std::max({M, std::abs(H(x + s, y) - 2 * c + H(x - s, y)) / (s * s), std::abs(H(x, y + s) - 2 * c + H(x, y - s)) / (s * s),
+                    std::abs(H(x + s, y + s) - 2 * c + H(x - s, y - s)) / (2 * s * s)});
+    }
+  double bound = M * (2 * h * h) / 8;
+  std::vector<double> zerr, terr;
+  size_t fallback = 0, unbracketed = 0;
+  for (size_t i = 0; i < rays.size(); i++) {
+    const SurfaceRecord& rec = run.recordList[i];
+    if (!(rec.flags() & kSurfaceHit)) continue;
+    if (rec.flags() & kSurfaceFallback) {
+      fallback++;
+      continue;
+    }
+    dvec3 p = test::vec3Of(run.refractedRays[i].origin);
+    zerr.push_back(std::abs(p.z - H(p.x, p.y)));
+    // exact intersection: bisection on H(o + t d) - (o + t d).z around the traced t
+    dvec3 o = test::vec3Of(rays[i].origin), d = glm::normalize(test::vec3Of(rays[i].dir));
+    auto f = [&](double t) { dvec3 q = o + t * d; return H(q.x, q.y) - q.z; };
+    double a = rec.t - 0.02, b = rec.t + 0.02;
+    if (!(f(a) < 0 && f(b) > 0)) {
+      unbracketed++;
+      continue;
+    }
+    for (int it = 0; it < 30; it++) {
+      double m = 0.5 * (a + b);
+      (f(m) < 0 ? a : b) = m;
+    }
+    terr.push_back(std::abs(rec.t - a));
+  }
+  REQUIRE(zerr.size() > rays.size() / 2);
+  REQUIRE(terr.size() > rays.size() / 2);
+  std::sort(zerr.begin(), zerr.end());
+  std::sort(terr.begin(), terr.end());
+  auto pct = [](const std::vector<double>& v, double q) { return v[size_t(q * double(v.size() - 1))]; };
+  MESSAGE("MLP surface, spacing " << h << ", M " << M << ", bound " << bound << " | |z-H| median " << pct(zerr, 0.5) << " p99 "
+                                  << pct(zerr, 0.99) << " max " << zerr.back() << " | |t-t*| median " << pct(terr, 0.5) << " p99 "
+                                  << pct(terr, 0.99) << " max " << terr.back() << " | fallback " << fallback << ", unbracketed "
+                                  << unbracketed);
+  CHECK(zerr.back() <= bound + 2e-6);
+  CHECK(unbracketed < rays.size() / 100);
+  CHECK(fallback < rays.size() * 15 / 100);  // kinks make the MLP surface miss children more often than smooth waves
 }
 
 GPU_TEST_CASE("a shared vertex gets bitwise-identical normals from every triangle") {

@@ -117,7 +117,7 @@ int runBenchSurface(const cli::Args& args) {
       createTimer(*ctx, timer, 16);
       std::map<std::string, std::vector<double>> samples;
       std::vector<double> wall;
-      for (int run = 0; run < runs + 1; run++) {  // the first run warms up
+      for (int run = 0; run < std::max(runs, 0) + 1; run++) {
         submitAndWait(*ctx, [&](VkCommandBuffer cb) {
           cmdTimerStart(cb, timer);
           HeightSource hs = heightSource(hf);
@@ -148,7 +148,7 @@ int runBenchSurface(const cli::Args& args) {
           cmdTimerStamp(cb, timer, "raw");
         });
         auto raw = readTimer(timer);
-        if (run == 0) continue;
+        if (run == 0 && runs > 0) continue;  // warm-up (with --runs 0 the single run is kept)
         // the second update stamp includes a second grid evaluation: subtract it
         samples["update: grid heights"].push_back(upd[0].second);
         samples["update: vertices + refit"].push_back(upd[1].second - upd[0].second);
@@ -224,7 +224,7 @@ REFRAX_BENCH_SUITE({"surface",
                      {"hidden", "N", "MLP hidden layers", "6"},
                      {"grids", "LIST", "coarse grid cells per side", "200,100,50"},
                      {"finest", "N", "finest lattice cells per side (K raised per grid to reach it)", "800"},
-                     {"runs", "N", "timed runs per configuration (median)", "3"},
+                     {"runs", "N", "timed runs per configuration after one warm-up (median); 0: one unwarmed run", "3"},
                      {"octaves", "N", "MLP encoding octaves", "6"},
                      {"init-range", "X", "MLP last-layer init range (surface amplitude)", "0.1"},
                      {"csv", "PATH", "CSV output", "bench/results/surface_<device>.csv"}},
