@@ -85,6 +85,7 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
   const ComputePipeline& backprop = heightBackpropPipeline(hf);
   const ComputePipeline& grad = heightWeightGradPipeline(hf);
   HeightPush push = basePush(hf);
+  cmdBarrier(cb);  // earlier recorded work (a layered forward) may still use the scratch
   const uint32_t maxGroups = hf.ctx->properties.limits.maxComputeWorkGroupCount[0];
   for (uint32_t first = 0; first < count; first += hf.backwardChunk) {
     if (first > 0) cmdBarrier(cb);  // the previous chunk's gradient pass has read the scratch
