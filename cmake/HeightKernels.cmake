@@ -1,7 +1,10 @@
 # Straight-line height-field kernels, generated at build time for these shapes
 # (engine/height_kernel_shapes.h explains the forms; other shapes use the loop-based kernels):
-#   fused:   widths REFRAX_HEIGHT_FUSED_WIDTHS x hidden layers 1..8 x octaves REFRAX_HEIGHT_OCTAVES
+#   fused:   widths REFRAX_HEIGHT_FUSED_WIDTHS x hidden layers 1..8 x octaves REFRAX_HEIGHT_OCTAVES,
+#            forward and backward pass 1
 #   layered: widths REFRAX_HEIGHT_LAYERED_WIDTHS (any depth) x octaves REFRAX_HEIGHT_OCTAVES
+#   weight-gradient tiles: 1, 16, 32 outputs per block (any layer whose output count they divide),
+#            with float atomicAdd and with compare-and-swap adds
 set(REFRAX_HEIGHT_FUSED_WIDTHS 16 32 64 CACHE STRING "widths with fused straight-line height-field kernels")
 set(REFRAX_HEIGHT_LAYERED_WIDTHS 128 256 CACHE STRING "widths with layered straight-line height-field kernels")
 set(REFRAX_HEIGHT_OCTAVES 6 CACHE STRING "encoding octaves with straight-line height-field kernels")
@@ -28,6 +31,7 @@ function(refrax_generate_height_kernels out_var)
     foreach(width ${REFRAX_HEIGHT_FUSED_WIDTHS})
       foreach(depth RANGE 1 ${REFRAX_HEIGHT_MAX_FUSED_DEPTH})
         generate(height_fused_w${width}_d${depth}_l${octaves} fused ${width} ${depth} ${octaves})
+        generate(height_backprop_w${width}_d${depth}_l${octaves} backprop ${width} ${depth} ${octaves})
       endforeach()
     endforeach()
     foreach(width ${REFRAX_HEIGHT_LAYERED_WIDTHS})
@@ -37,6 +41,11 @@ function(refrax_generate_height_kernels out_var)
   foreach(width ${REFRAX_HEIGHT_LAYERED_WIDTHS})
     generate(height_layer_hidden_w${width} hidden ${width})
     generate(height_layer_last_w${width} last ${width})
+  endforeach()
+  foreach(mb 1 16 32)  # kHeightGradBlocks in engine/height_kernel_shapes.h
+    foreach(add atomic cas)
+      generate(height_grad_tile_mb${mb}_${add} grad ${mb} ${add})
+    endforeach()
   endforeach()
   set(${out_var} ${sources} PARENT_SCOPE)
 endfunction()

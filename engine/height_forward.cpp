@@ -21,14 +21,6 @@ namespace {
 
 enum class ForwardForm { Generic, Fused, Layered };
 
-bool hasShader(const std::string& name) {
-  size_t count = 0;
-  const EmbeddedShader* all = embeddedShaders(&count);
-  for (size_t i = 0; i < count; i++)
-    if (name == all[i].name) return true;
-  return false;
-}
-
 // Points per layered chunk: two [width][points] activation regions in the scratch, whole workgroups.
 uint32_t layeredChunk(const HeightField& hf) {
   uint64_t floats = hf.scratch.size / 4;
@@ -41,9 +33,9 @@ ForwardForm forwardForm(const HeightField& hf) {
   bool fits = limits.maxComputeWorkGroupInvocations >= kHeightKernelGroup && limits.maxComputeWorkGroupSize[0] >= kHeightKernelGroup &&
               limits.maxComputeSharedMemorySize >= kHeightStageFloats * 4;
   if (hf.forceGenericForward || !fits) return ForwardForm::Generic;
-  if (c.width <= kHeightFusedMaxWidth && hasShader(heightFusedKernelName(c.width, c.hiddenLayers, c.octaves))) return ForwardForm::Fused;
-  if (hasShader(heightLayerFirstKernelName(c.width, c.octaves)) && hasShader(heightLayerHiddenKernelName(c.width)) &&
-      hasShader(heightLayerLastKernelName(c.width)) && layeredChunk(hf) > 0)
+  if (c.width <= kHeightFusedMaxWidth && heightShaderEmbedded(heightFusedKernelName(c.width, c.hiddenLayers, c.octaves))) return ForwardForm::Fused;
+  if (heightShaderEmbedded(heightLayerFirstKernelName(c.width, c.octaves)) && heightShaderEmbedded(heightLayerHiddenKernelName(c.width)) &&
+      heightShaderEmbedded(heightLayerLastKernelName(c.width)) && layeredChunk(hf) > 0)
     return ForwardForm::Layered;
   return ForwardForm::Generic;
 }

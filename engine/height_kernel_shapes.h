@@ -11,7 +11,7 @@
 //
 // Two forms:
 //  fused   (width <= kHeightFusedMaxWidth): the whole network in one dispatch, per (width,
-//          hiddenLayers, octaves).
+//          hiddenLayers, octaves); also backward pass 1 (activations and deltas).
 //  layered (wider): one dispatch per layer and group of heightLayerGroupOutputs(width)
 //          output neurons, activations through the scratch buffer ([neuron][point], chunks
 //          of points); kernels per (width, octaves) for the first layer, per width for the
@@ -26,11 +26,29 @@ constexpr uint32_t kHeightKernelGroup = 256;     // invocations per workgroup (o
 constexpr uint32_t kHeightStageFloats = 8192;    // weights staged in shared memory at once (32 KB)
 constexpr uint32_t kHeightFusedMaxWidth = 64;
 
+// Weight-gradient tiles (backward pass 2): points per workgroup and lanes (inputs k) per
+// workgroup; kernels exist per outputs-per-block mb (kHeightGradBlocks), chosen as the largest
+// listed mb that divides the layer's output count.
+constexpr uint32_t kHeightGradTile = 128;
+constexpr uint32_t kHeightGradLanes = 32;
+constexpr uint32_t kHeightGradBlocks[] = {32, 16, 1};
+inline uint32_t heightGradBlock(uint32_t outputs) {
+  for (uint32_t mb : kHeightGradBlocks)
+    if (outputs % mb == 0) return mb;
+  return 1;
+}
+inline std::string heightGradKernelName(uint32_t mb, bool atomic) {
+  return "height_grad_tile_mb" + std::to_string(mb) + (atomic ? "_atomic" : "_cas");
+}
+
 // Output neurons of one layered dispatch: as many rows of `width` weights as fit the stage.
 inline uint32_t heightLayerGroupOutputs(uint32_t width) { return std::max(4u, std::min(width, kHeightStageFloats / width) / 4 * 4); }
 
 inline std::string heightFusedKernelName(uint32_t width, uint32_t hidden, uint32_t octaves) {
   return "height_fused_w" + std::to_string(width) + "_d" + std::to_string(hidden) + "_l" + std::to_string(octaves);
+}
+inline std::string heightBackpropKernelName(uint32_t width, uint32_t hidden, uint32_t octaves) {
+  return "height_backprop_w" + std::to_string(width) + "_d" + std::to_string(hidden) + "_l" + std::to_string(octaves);
 }
 inline std::string heightLayerFirstKernelName(uint32_t width, uint32_t octaves) {
   return "height_layer_first_w" + std::to_string(width) + "_l" + std::to_string(octaves);

@@ -1,9 +1,11 @@
 // Build-time generator of the straight-line height-field kernels (engine/height_kernel_shapes.h
 // explains why and which forms). Run by CMake, one output file per call:
 //   generate_height_kernels <out.comp> fused  <width> <hiddenLayers> <octaves>
+//   generate_height_kernels <out.comp> backprop <width> <hiddenLayers> <octaves>
 //   generate_height_kernels <out.comp> first  <width> <octaves>
 //   generate_height_kernels <out.comp> hidden <width>
 //   generate_height_kernels <out.comp> last   <width>
+//   generate_height_kernels <out.comp> grad   <outputsPerBlock> atomic|cas
 // Every generated kernel: one invocation per point, no loops, no branches except around the
 // final store (lavapipe scalarises loads under control flow), weights staged cooperatively
 // into shared memory as vec4 and read at constant offsets; hidden layers as vec4 dot
@@ -119,6 +121,7 @@ std::string header(const std::string& what, uint32_t sharedVec4s, const std::vec
   for (size_t b = 0; b < buffers.size(); b++) h << "layout(std430, set = 0, binding = " << b << ") " << buffers[b] << "\n";
   h << "shared vec4 sw4[" << sharedVec4s << "];\n"
     << "vec4 lrelu4(vec4 v) { return max(v, SLOPE * v); }\n"
+    << "vec4 slopeAt4(vec4 a) { return mix(vec4(SLOPE), vec4(1.0), greaterThan(a, vec4(0.0))); }  // lrelu' from the output\n"
     << "void main() {\n"
     << "  uint lid = gl_LocalInvocationID.x;\n";
   return h.str();
@@ -167,6 +170,82 @@ std::string fused(uint32_t width, uint32_t hidden, uint32_t octaves) {
   }
   emitOutput(e, width, "h" + std::to_string(hidden) + "_", std::to_string(off) + "u", last);
   e.line("if (gl_GlobalInvocationID.x < pc.count) heights[i] = finitePoint ? r + pc.initialHeight : heightNaN();");
+  e.s << "}\n";
+  return e.s.str();
+}
+
+// Backward pass 1 for fused widths: the fused forward, then the deltas layer by layer down
+// (weights staged again, read transposed at constant offsets), every layer's input X_l and
+// output delta D_l stored to the scratch ([point][neuron], height_shape.glsl). A point with
+// non-finite coordinates or dLoss/dHeight is replaced by the domain corner with zero delta.
+// Lanes past the chunk's count redo its last point and store the same values there.
+std::string fusedBackprop(uint32_t width, uint32_t hidden, uint32_t octaves) {
+  uint32_t inputs = 2 + 4 * octaves, quads = width / 4;
+  uint64_t params = uint64_t(width) * inputs + uint64_t(hidden - 1) * width * width + width;
+  std::string last = std::to_string(params / 4 - 1) + "u";
+  uint32_t maxStage = std::max(width * inputs, hidden > 1 ? width * width : width);
+  if (width * width > kHeightStageFloats) {
+    std::fprintf(stderr, "generate_height_kernels: fused backprop needs width^2 <= %u\n", kHeightStageFloats);
+    std::exit(2);
+  }
+  Emitter e;
+  e.s << header("fused backward pass 1 (activations and deltas), width " + std::to_string(width) + ", " + std::to_string(hidden) +
+                    " hidden layers, " + std::to_string(octaves) + " octaves",
+                stageVec4s(maxStage),
+                {"readonly buffer Weights { vec4 w4[]; };", "readonly buffer Points { vec2 points[]; };",
+                 "readonly buffer DLossDHeight { float dLossdHeight[]; };", "writeonly buffer Scratch { float scratch[]; };"});
+  e.line("uint tc = min(gl_GlobalInvocationID.x, pc.count - 1u);");
+  e.line("uint i = pc.first + tc;");
+  e.line("vec2 p = points[i];");
+  e.line("float g = dLossdHeight[i];");
+  e.line("bool usable = heightPointFinite(p) && !isnan(g) && !isinf(g);");
+  e.line("g = usable ? g : 0.0;");
+  e.line("vec2 u = heightDomainToUnit(usable ? p : pc.domainMin, pc.domainMin, pc.domainMax);");
+  for (uint32_t k = 0; k < inputs; k++) e.line("float e" + std::to_string(k) + " = heightEncodingFeature(u, " + std::to_string(k) + "u);");
+  // Scratch offsets: X_l at chunk * xOff(l) + tc * n_l, D_l at chunk * dOff(l) + tc * m_l.
+  auto xOff = [&](uint32_t l) { return l == 0 ? 0u : inputs + (l - 1) * width; };
+  auto dOff = [&](uint32_t l) { return inputs + hidden * width + l * width; };
+  auto store = [&](const std::string& off, uint32_t count, uint32_t n, const std::string& value) {
+    e.line("scratch[pc.chunk * " + off + "u + tc * " + std::to_string(count) + "u + " + std::to_string(n) + "u] = " + value + ";");
+  };
+  for (uint32_t k = 0; k < inputs; k++) store("0", inputs, k, "e" + std::to_string(k));
+  e.layer(names("e", inputs), false, inputs, width, "0u", last, "s0_", "h1_");
+  uint64_t off = uint64_t(width) * inputs;
+  std::vector<uint64_t> layerOffset = {0};
+  for (uint32_t l = 1; l < hidden; l++) {
+    layerOffset.push_back(off);
+    std::string in = "h" + std::to_string(l) + "_", out = "h" + std::to_string(l + 1) + "_";
+    e.layer(names(in, quads), true, width, width, std::to_string(off) + "u", last, "s" + std::to_string(l) + "_", out);
+    off += uint64_t(width) * width;
+  }
+  layerOffset.push_back(off);
+  for (uint32_t l = 1; l <= hidden; l++)
+    for (uint32_t j = 0; j < width; j++)
+      store(std::to_string(xOff(l)), width, j, "h" + std::to_string(l) + "_" + std::to_string(j / 4) + "." + kLane[j % 4]);
+  store(std::to_string(dOff(hidden)), 1, 0, "g");
+  // Output layer: D_{hidden-1} = g * w_out * lrelu'(X_hidden).
+  e.stage(std::to_string(off) + "u", width, last);
+  std::string hl = "h" + std::to_string(hidden) + "_";
+  for (uint32_t q = 0; q < quads; q++)
+    e.line("vec4 d" + std::to_string(hidden - 1) + "_" + std::to_string(q) + " = g * sw4[" + std::to_string(q) + "] * slopeAt4(" + hl +
+           std::to_string(q) + ");");
+  // Hidden layers down: D_{l-1}[k] = sum_j W_l[j][k] D_l[j] * lrelu'(X_l[k]), W_l staged row-major.
+  for (uint32_t l = hidden - 1; l >= 1; l--) {
+    e.stage(std::to_string(layerOffset[l]) + "u", width * width, last);
+    std::string din = "d" + std::to_string(l) + "_", dout = "d" + std::to_string(l - 1) + "_", x = "h" + std::to_string(l) + "_";
+    for (uint32_t j = 0; j < width; j++)
+      for (uint32_t q = 0; q < quads; q++) {
+        std::string term = "sw4[" + std::to_string(j * quads + q) + "] * " + din + std::to_string(j / 4) + "." + kLane[j % 4];
+        e.line(j == 0 ? "vec4 b" + std::to_string(l) + "_" + std::to_string(q) + " = " + term + ";"
+                      : "b" + std::to_string(l) + "_" + std::to_string(q) + " += " + term + ";");
+      }
+    for (uint32_t q = 0; q < quads; q++)
+      e.line("vec4 " + dout + std::to_string(q) + " = b" + std::to_string(l) + "_" + std::to_string(q) + " * slopeAt4(" + x +
+             std::to_string(q) + ");");
+  }
+  for (uint32_t l = 0; l < hidden; l++)
+    for (uint32_t j = 0; j < width; j++)
+      store(std::to_string(dOff(l)), width, j, "d" + std::to_string(l) + "_" + std::to_string(j / 4) + "." + kLane[j % 4]);
   e.s << "}\n";
   return e.s.str();
 }
@@ -229,10 +308,61 @@ std::string layerLast(uint32_t width) {
   return e.s.str();
 }
 
+// Weight gradient of one layer over a tile of points (backward pass 2 with the scratch layout of
+// height_shape.glsl, [point][neuron]): workgroup (tile, k-block, j-block); lane = input k; the
+// tile's deltas D[t][j0..j0+mb) are staged in shared memory (zero for points past the chunk's
+// count) and read at constant offsets, the lane's inputs X[t][k] are loaded straight; after
+// the tile, one float add per weight and lane. The shape (n inputs, m outputs) is pushed, so
+// one kernel per block size serves every layer of every width that mb divides.
+std::string gradTile(uint32_t mb, bool atomic) {
+  const uint32_t T = refrax::kHeightGradTile, L = refrax::kHeightGradLanes;
+  std::ostringstream h;
+  h << "#version 460\n"
+    << "// Generated by shaders/generate_height_kernels.cpp at build time: weight-gradient tile, " << mb << " outputs x " << T
+    << " points, " << (atomic ? "float atomicAdd" : "compare-and-swap add") << "\n"
+    << "#extension GL_GOOGLE_include_directive : require\n";
+  if (atomic) h << "#extension GL_EXT_shader_atomic_float : require\n#define REFRAX_FLOAT_ATOMIC_ADD\n";
+  h << "layout(local_size_x = " << L << ") in;\n"
+    << "layout(push_constant) uniform GradPush { uint count, n, m, xBase, dBase, weightBase; } pc;\n"
+    << "layout(std430, set = 0, binding = 0) readonly buffer Scratch { float scratch[]; };\n"
+    << "#include \"height_grad_output.glsl\"\n"
+    << "shared float sd[" << T * mb << "];\n"
+    << "void main() {\n"
+    << "  uint lid = gl_LocalInvocationID.x;\n"
+    << "  uint t0 = gl_WorkGroupID.x * " << T << "u;\n"
+    << "  uint k = gl_WorkGroupID.y * " << L << "u + lid;\n"
+    << "  uint kc = min(k, pc.n - 1u);\n"
+    << "  uint j0 = gl_WorkGroupID.z * " << mb << "u;\n"
+    << "  uint last = uint(scratch.length()) - 1u;\n";
+  Emitter e;
+  for (uint32_t c = 0; c < T * mb / L; c++) {
+    std::string i = "(" + std::to_string(c * L) + "u + lid)";
+    std::string tt = i + " / " + std::to_string(mb) + "u", jj = i + " % " + std::to_string(mb) + "u";
+    // load unconditionally, then select (a load under a condition would be scalarised)
+    std::string d = "d" + std::to_string(c);
+    e.line("float " + d + " = scratch[min(pc.dBase + (t0 + " + tt + ") * pc.m + j0 + " + jj + ", last)];");
+    e.line("sd[" + std::to_string(c * L) + "u + lid] = t0 + " + tt + " < pc.count ? " + d + " : 0.0;");
+  }
+  e.line("barrier();");
+  for (uint32_t t = 0; t < T; t++) {
+    std::string x = "x" + std::to_string(t);
+    e.line("float " + x + " = scratch[min(pc.xBase + (t0 + " + std::to_string(t) + "u) * pc.n + kc, last)];");
+    for (uint32_t j = 0; j < mb; j++) {
+      std::string term = "sd[" + std::to_string(t * mb + j) + "] * " + x;
+      e.line(t == 0 ? "float acc" + std::to_string(j) + " = " + term + ";" : "acc" + std::to_string(j) + " += " + term + ";");
+    }
+  }
+  e.line("if (k < pc.n) {");
+  for (uint32_t j = 0; j < mb; j++)
+    e.line("  addToGradient(pc.weightBase + (j0 + " + std::to_string(j) + "u) * pc.n + k, acc" + std::to_string(j) + ");");
+  e.line("}");
+  return h.str() + e.s.str() + "}\n";
+}
+
 [[noreturn]] void usage() {
   std::fprintf(stderr,
-               "usage: generate_height_kernels <out.comp> fused <width> <hidden> <octaves> | first <width> <octaves> | "
-               "hidden <width> | last <width>\n");
+               "usage: generate_height_kernels <out.comp> fused|backprop <width> <hidden> <octaves> | first <width> <octaves> | "
+               "hidden <width> | last <width> | grad <outputsPerBlock> atomic|cas\n");
   std::exit(2);
 }
 
@@ -249,18 +379,22 @@ int main(int argc, char** argv) {
   if (argc < 4) usage();
   std::string kind = argv[2], text;
   uint32_t width = number(argv[3]);
-  if (width % 4) {
+  if (width % 4 && kind != "grad") {
     std::fprintf(stderr, "generate_height_kernels: width must be a multiple of 4\n");
     return 2;
   }
   if (kind == "fused" && argc == 6)
     text = fused(width, number(argv[4]), uint32_t(std::atoi(argv[5])));
+  else if (kind == "backprop" && argc == 6)
+    text = fusedBackprop(width, number(argv[4]), uint32_t(std::atoi(argv[5])));
   else if (kind == "first" && argc == 5)
     text = layerFirst(width, uint32_t(std::atoi(argv[4])));
   else if (kind == "hidden" && argc == 4)
     text = layerHidden(width);
   else if (kind == "last" && argc == 4)
     text = layerLast(width);
+  else if (kind == "grad" && argc == 5)
+    text = gradTile(width, std::string(argv[4]) == "atomic");
   else
     usage();
   std::ofstream out(argv[1], std::ios::trunc);

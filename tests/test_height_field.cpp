@@ -167,8 +167,8 @@ GPU_TEST_CASE("height field forward matches the double reference (generated laye
   checkForward(ctx, rng, hf, chunk + 777, 13);
 }
 
-GPU_TEST_CASE("height field backward matches finite differences and the analytic reference (both atomic paths)") {
-  HeightFieldConfig c = randomConfig(rng, 8, 3, 2);
+GPU_TEST_CASE("height field backward matches finite differences and the analytic reference (tiles and loops, both atomic paths)") {
+  HeightFieldConfig c = randomConfig(rng, 16, 2, 6);  // generated fused pass 1 and 16-output gradient tiles
   HeightField hf = createHeightField(ctx, c, rng());
   hf.backwardChunk = 320;  // several chunks, and several gradient slices in the first
   auto wf = downloadWeights(ctx, hf);
@@ -196,9 +196,11 @@ GPU_TEST_CASE("height field backward matches finite differences and the analytic
   }
   CHECK(vectorRelativeError(analytic, fd) <= 1e-5);
 
-  for (bool cas : {false, true}) {
-    hf.forceCompareSwapAdd = cas;
-    INFO("compare-and-swap add: " << (cas || !ctx.caps.floatAtomicAdd));
+  for (int variant = 0; variant < 4; variant++) {
+    hf.forceCompareSwapAdd = variant & 1;
+    hf.forceGenericBackward = variant & 2;
+    INFO("compare-and-swap add: " << (hf.forceCompareSwapAdd || !ctx.caps.floatAtomicAdd)
+                                  << ", loop-based backward kernels: " << hf.forceGenericBackward);
     auto gpu = deviceGradient(ctx, hf, points, g, start);
     std::vector<double> delta(gpu.size());
     for (size_t j = 0; j < gpu.size(); j++) delta[j] = double(gpu[j]) - start[j];
@@ -258,9 +260,8 @@ GPU_TEST_CASE("height field save/load round-trips bitwise; bad files are refused
 }
 
 GPU_TEST_CASE("height field bad input: zero points is a no-op, NaN points do not poison others") {
-  HeightFieldConfig c = randomConfig(rng, 8, 2, 2);
+  HeightFieldConfig c = randomConfig(rng, 16, 2, 6);
   HeightField hf = createHeightField(ctx, c, rng());
-  hf.forceGenericForward = true;
   Buffer pb = createBuffer(ctx, 64), hb = createBuffer(ctx, 64), gb = createBuffer(ctx, hf.parameterCount * 4);
   fillBuffer(ctx, hb, kNaNBits);
   fillBuffer(ctx, gb, 0x3F800000u);  // 1.0
@@ -275,16 +276,20 @@ GPU_TEST_CASE("height field bad input: zero points is a no-op, NaN points do not
   points[2 * 3] = NAN;
   points[2 * 7 + 1] = INFINITY;
   g[11] = NAN;  // a finite point with a NaN upstream gradient is skipped too
-  auto h = evaluateOnDevice(ctx, hf, points);
-  CHECK(std::isnan(h[3]));
-  CHECK(std::isnan(h[7]));
   auto w = toDouble(downloadWeights(ctx, hf));
-  for (size_t i = 0; i < h.size(); i++)
-    if (i != 3 && i != 7) CHECK(h[i] == doctest::Approx(heightReference(c, w, points[2 * i], points[2 * i + 1])).epsilon(1e-5));
-  auto gpu = deviceGradient(ctx, hf, points, g, std::vector<float>(hf.parameterCount, 0.0f));
   auto ref = referenceGradient(c, w, points, g);
-  for (float v : gpu) REQUIRE(std::isfinite(v));
-  CHECK(vectorRelativeError(std::vector<double>(gpu.begin(), gpu.end()), ref) <= 1e-5);
+  for (bool generic : {false, true}) {  // generated and loop-based kernels
+    INFO("loop-based kernels: " << generic);
+    hf.forceGenericForward = hf.forceGenericBackward = generic;
+    auto h = evaluateOnDevice(ctx, hf, points);
+    CHECK(std::isnan(h[3]));
+    CHECK(std::isnan(h[7]));
+    for (size_t i = 0; i < h.size(); i++)
+      if (i != 3 && i != 7) CHECK(h[i] == doctest::Approx(heightReference(c, w, points[2 * i], points[2 * i + 1])).epsilon(1e-5));
+    auto gpu = deviceGradient(ctx, hf, points, g, std::vector<float>(hf.parameterCount, 0.0f));
+    for (float v : gpu) REQUIRE(std::isfinite(v));
+    CHECK(vectorRelativeError(std::vector<double>(gpu.begin(), gpu.end()), ref) <= 1e-5);
+  }
   // Buffers too small for the count are refused with one clear error.
   submitAndWait(ctx, [&](VkCommandBuffer cb) { CHECK_THROWS_AS(cmdEvaluateHeights(cb, hf, pb, 1000, hb), Error); });
   HeightFieldConfig bad = c;
