@@ -59,6 +59,7 @@ HeightField createHeightField(Context& ctx, const HeightFieldConfig& config, uin
   uint64_t chunk = std::max<uint64_t>(64, std::min<uint64_t>(65536, kScratchFloats / perPoint) / 64 * 64);
   hf.backwardChunk = uint32_t(chunk);
   hf.scratch = createBuffer(ctx, chunk * perPoint * sizeof(float));
+  fillBuffer(ctx, hf.scratch, 0);  // rows past a chunk's count are read (and multiplied by zero): keep them finite
   hf.pipelines = std::make_shared<HeightFieldPipelines>();
   return hf;
 }
@@ -82,17 +83,23 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
   requireBytes(points, uint64_t(count) * 8, "points", call);
   requireBytes(dLossdHeight, uint64_t(count) * 4, "dLossdHeight", call);
   requireBytes(dLossdWeights, hf.parameterCount * 4, "dLossdWeights", call);
-  const ComputePipeline& backprop = heightBackpropPipeline(hf);
-  const ComputePipeline& grad = heightWeightGradPipeline(hf);
+  const HeightBackpropKernel backprop = heightBackpropKernel(hf);
+  const bool useTiles = heightGradTilesAvailable(hf);
+  const ComputePipeline& grad = useTiles ? *backprop.pipeline : heightWeightGradPipeline(hf);
   HeightPush push = basePush(hf);
+  cmdBarrier(cb);  // earlier recorded work (a layered forward) may still use the scratch
   const uint32_t maxGroups = hf.ctx->properties.limits.maxComputeWorkGroupCount[0];
   for (uint32_t first = 0; first < count; first += hf.backwardChunk) {
     if (first > 0) cmdBarrier(cb);  // the previous chunk's gradient pass has read the scratch
     push.first = first;
     push.count = std::min(hf.backwardChunk, count - first);
-    cmdDispatch(cb, backprop, {bind(hf.weights), bind(points), bind(dLossdHeight), bind(hf.scratch)}, &push,
-                groupsFor(push.count, 64));
+    cmdDispatch(cb, *backprop.pipeline, {bind(hf.weights), bind(points), bind(dLossdHeight), bind(hf.scratch)}, &push,
+                groupsFor(push.count, backprop.groupSize));
     cmdBarrier(cb);
+    if (useTiles) {
+      cmdHeightGradTiles(cb, hf, push.count, dLossdWeights);
+      continue;
+    }
     uint32_t slices = groupsFor(push.count, kGradientSlice);
     uint64_t perDispatch = uint64_t(maxGroups) * 64;
     for (uint64_t base = 0; base < hf.parameterCount; base += perDispatch) {
@@ -109,8 +116,11 @@ double warmUpHeightField(HeightField& hf) {
   std::set<std::string> before;
   for (auto& [name, p] : cache) before.insert(name);
   prepareHeightForward(hf);
-  heightBackpropPipeline(hf);
-  heightWeightGradPipeline(hf);
+  heightBackpropKernel(hf);
+  if (heightGradTilesAvailable(hf))
+    prepareHeightGradTiles(hf);
+  else
+    heightWeightGradPipeline(hf);
   double ms = 0;
   for (auto& [name, p] : cache)
     if (!before.count(name)) ms += p.createMs;

@@ -54,12 +54,14 @@ struct HeightField {
   uint64_t parameterCount = 0;
   Buffer weights;  // parameterCount floats, layout above
   // Backward scratch: per point, every layer's input and every layer's output delta, for
-  // backwardChunk points at a time (the weight gradient is then one GEMM per layer).
+  // backwardChunk points at a time (the weight gradient is then one GEMM per layer); the
+  // layered forward reuses it. backwardChunk may be lowered (tests), never raised.
   Buffer scratch;
   uint32_t backwardChunk = 0;
-  // Kernel choice, for tests and benchmarks: the loop-based forward instead of the
-  // generated straight-line one; the compare-and-swap float add even where atomicAdd exists.
+  // Kernel choice, for tests and benchmarks: the loop-based kernels instead of the generated
+  // straight-line ones; the compare-and-swap float add even where atomicAdd exists.
   bool forceGenericForward = false;
+  bool forceGenericBackward = false;  // the loop-based weight-gradient pass instead of the generated tiles
   bool forceCompareSwapAdd = false;
   std::shared_ptr<HeightFieldPipelines> pipelines;
 

@@ -4,6 +4,8 @@
 
 #include "engine/error.h"
 #include "engine/height_field_kernels.h"
+#include "engine/height_kernel_shapes.h"
+#include "engine/shader_table.h"
 #include "engine/vk_context.h"
 
 namespace refrax {
@@ -19,11 +21,32 @@ std::vector<SpecConstant> heightShapeConstants(const HeightFieldConfig& c) {
   return {{0, heightInputCount(c)}, {1, c.width}, {2, c.hiddenLayers}, specFloat(3, c.leakySlope)};
 }
 
-const ComputePipeline& heightBackpropPipeline(const HeightField& hf) {
-  return heightPipeline(hf, "backprop", [&] {
+HeightBackpropKernel heightBackpropKernel(const HeightField& hf) {
+  const HeightFieldConfig& c = hf.config;
+  const VkPhysicalDeviceLimits& limits = hf.ctx->properties.limits;
+  std::string fused = heightBackpropKernelName(c.width, c.hiddenLayers, c.octaves);
+  if (!hf.forceGenericBackward && c.width <= kHeightFusedMaxWidth && heightShaderEmbedded(fused) &&
+      limits.maxComputeWorkGroupInvocations >= kHeightKernelGroup && limits.maxComputeWorkGroupSize[0] >= kHeightKernelGroup &&
+      limits.maxComputeSharedMemorySize >= kHeightStageFloats * 4) {
+    const ComputePipeline& p = heightPipeline(hf, fused, [&] {
+      return createComputePipeline(*hf.ctx, fused.c_str(), {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                                   sizeof(HeightPush), {specFloat(3, c.leakySlope)});
+    });
+    return {&p, kHeightKernelGroup};
+  }
+  const ComputePipeline& p = heightPipeline(hf, "backprop", [&] {
     return createComputePipeline(*hf.ctx, "height_backprop", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                                  sizeof(HeightPush), heightShapeConstants(hf.config));
   });
+  return {&p, 64};
+}
+
+bool heightShaderEmbedded(const std::string& name) {
+  size_t count = 0;
+  const EmbeddedShader* all = embeddedShaders(&count);
+  for (size_t i = 0; i < count; i++)
+    if (name == all[i].name) return true;
+  return false;
 }
 
 const ComputePipeline& heightWeightGradPipeline(const HeightField& hf) {

@@ -38,8 +38,20 @@ double prepareHeightForward(const HeightField& hf);
 void cmdHeightForward(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
                       const Buffer& heights);
 
-const ComputePipeline& heightBackpropPipeline(const HeightField& hf);
+// Backward pass 1: the generated fused kernel where there is one, else the loop-based one.
+struct HeightBackpropKernel {
+  const ComputePipeline* pipeline;
+  uint32_t groupSize;
+};
+HeightBackpropKernel heightBackpropKernel(const HeightField& hf);
+bool heightShaderEmbedded(const std::string& name);
 const ComputePipeline& heightWeightGradPipeline(const HeightField& hf);
+
+// Backward pass 2 by generated weight-gradient tiles (when the build has them and the device
+// allows): one dispatch per layer over the chunk's `count` points in the scratch.
+bool heightGradTilesAvailable(const HeightField& hf);
+void prepareHeightGradTiles(const HeightField& hf);
+void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, const Buffer& dLossdWeights);
 
 // The pipeline `key` of the field, created by `make` on first use.
 const ComputePipeline& heightPipeline(const HeightField& hf, const std::string& key, const std::function<ComputePipeline()>& make);

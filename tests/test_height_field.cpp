@@ -69,10 +69,18 @@ double forwardError(const HeightField& hf, const std::vector<float>& points, con
   return worst / std::max(range, 1e-30);
 }
 
-void checkForward(Context& ctx, std::mt19937& rng, HeightField& hf, size_t n) {
+// Forward on n random points against the reference on every `stride`-th point and the last 100.
+void checkForward(Context& ctx, std::mt19937& rng, HeightField& hf, size_t n, size_t stride = 1) {
   std::vector<float> points = randomPoints(rng, hf.config, n);
   auto gpu = evaluateOnDevice(ctx, hf, points);
-  double err = forwardError(hf, points, gpu, downloadWeights(ctx, hf));
+  for (float h : gpu) REQUIRE(std::isfinite(h));
+  std::vector<float> checkedPoints, checkedGpu;
+  for (size_t i = 0; i < n; i++)
+    if (i % stride == 0 || i + 100 >= n) {
+      checkedPoints.insert(checkedPoints.end(), {points[2 * i], points[2 * i + 1]});
+      checkedGpu.push_back(gpu[i]);
+    }
+  double err = forwardError(hf, checkedPoints, checkedGpu, downloadWeights(ctx, hf));
   INFO("kernel " << hf.forwardKernelName() << ", width " << hf.config.width << ", relative error " << err);
   CHECK(err <= 1e-5);
 }
@@ -145,8 +153,22 @@ GPU_TEST_CASE("height field forward matches the double reference (generic kernel
   checkForward(ctx, rng, hf, 1000);
 }
 
-GPU_TEST_CASE("height field backward matches finite differences and the analytic reference (both atomic paths)") {
-  HeightFieldConfig c = randomConfig(rng, 8, 3, 2);
+GPU_TEST_CASE("height field forward matches the double reference (generated fused kernel, small width)") {
+  HeightField hf = createHeightField(ctx, randomConfig(rng, 16, 3, 6), rng());
+  REQUIRE(hf.forwardKernelName() == "height_fused_w16_d3_l6");
+  checkForward(ctx, rng, hf, 1000);
+}
+
+GPU_TEST_CASE("height field forward matches the double reference (generated layered kernels, width 256, two chunks)") {
+  // The one width-256 case: lavapipe JIT-compiles its hidden-layer kernel for about a minute.
+  HeightField hf = createHeightField(ctx, randomConfig(rng, 256, 3, 6), rng());
+  REQUIRE(hf.forwardKernelName() == "height_layer_*_w256");
+  uint32_t chunk = uint32_t(hf.scratch.size / 4 / 512 / 256 * 256);
+  checkForward(ctx, rng, hf, chunk + 777, 13);
+}
+
+GPU_TEST_CASE("height field backward matches finite differences and the analytic reference (tiles and loops, both atomic paths)") {
+  HeightFieldConfig c = randomConfig(rng, 16, 2, 6);  // generated fused pass 1 and 16-output gradient tiles
   HeightField hf = createHeightField(ctx, c, rng());
   hf.backwardChunk = 320;  // several chunks, and several gradient slices in the first
   auto wf = downloadWeights(ctx, hf);
@@ -174,9 +196,11 @@ GPU_TEST_CASE("height field backward matches finite differences and the analytic
   }
   CHECK(vectorRelativeError(analytic, fd) <= 1e-5);
 
-  for (bool cas : {false, true}) {
-    hf.forceCompareSwapAdd = cas;
-    INFO("compare-and-swap add: " << (cas || !ctx.caps.floatAtomicAdd));
+  for (int variant = 0; variant < 4; variant++) {
+    hf.forceCompareSwapAdd = variant & 1;
+    hf.forceGenericBackward = variant & 2;
+    INFO("compare-and-swap add: " << (hf.forceCompareSwapAdd || !ctx.caps.floatAtomicAdd)
+                                  << ", loop-based backward kernels: " << hf.forceGenericBackward);
     auto gpu = deviceGradient(ctx, hf, points, g, start);
     std::vector<double> delta(gpu.size());
     for (size_t j = 0; j < gpu.size(); j++) delta[j] = double(gpu[j]) - start[j];
@@ -236,9 +260,8 @@ GPU_TEST_CASE("height field save/load round-trips bitwise; bad files are refused
 }
 
 GPU_TEST_CASE("height field bad input: zero points is a no-op, NaN points do not poison others") {
-  HeightFieldConfig c = randomConfig(rng, 8, 2, 2);
+  HeightFieldConfig c = randomConfig(rng, 16, 2, 6);
   HeightField hf = createHeightField(ctx, c, rng());
-  hf.forceGenericForward = true;
   Buffer pb = createBuffer(ctx, 64), hb = createBuffer(ctx, 64), gb = createBuffer(ctx, hf.parameterCount * 4);
   fillBuffer(ctx, hb, kNaNBits);
   fillBuffer(ctx, gb, 0x3F800000u);  // 1.0
@@ -253,16 +276,20 @@ GPU_TEST_CASE("height field bad input: zero points is a no-op, NaN points do not
   points[2 * 3] = NAN;
   points[2 * 7 + 1] = INFINITY;
   g[11] = NAN;  // a finite point with a NaN upstream gradient is skipped too
-  auto h = evaluateOnDevice(ctx, hf, points);
-  CHECK(std::isnan(h[3]));
-  CHECK(std::isnan(h[7]));
   auto w = toDouble(downloadWeights(ctx, hf));
-  for (size_t i = 0; i < h.size(); i++)
-    if (i != 3 && i != 7) CHECK(h[i] == doctest::Approx(heightReference(c, w, points[2 * i], points[2 * i + 1])).epsilon(1e-5));
-  auto gpu = deviceGradient(ctx, hf, points, g, std::vector<float>(hf.parameterCount, 0.0f));
   auto ref = referenceGradient(c, w, points, g);
-  for (float v : gpu) REQUIRE(std::isfinite(v));
-  CHECK(vectorRelativeError(std::vector<double>(gpu.begin(), gpu.end()), ref) <= 1e-5);
+  for (bool generic : {false, true}) {  // generated and loop-based kernels
+    INFO("loop-based kernels: " << generic);
+    hf.forceGenericForward = hf.forceGenericBackward = generic;
+    auto h = evaluateOnDevice(ctx, hf, points);
+    CHECK(std::isnan(h[3]));
+    CHECK(std::isnan(h[7]));
+    for (size_t i = 0; i < h.size(); i++)
+      if (i != 3 && i != 7) CHECK(h[i] == doctest::Approx(heightReference(c, w, points[2 * i], points[2 * i + 1])).epsilon(1e-5));
+    auto gpu = deviceGradient(ctx, hf, points, g, std::vector<float>(hf.parameterCount, 0.0f));
+    for (float v : gpu) REQUIRE(std::isfinite(v));
+    CHECK(vectorRelativeError(std::vector<double>(gpu.begin(), gpu.end()), ref) <= 1e-5);
+  }
   // Buffers too small for the count are refused with one clear error.
   submitAndWait(ctx, [&](VkCommandBuffer cb) { CHECK_THROWS_AS(cmdEvaluateHeights(cb, hf, pb, 1000, hb), Error); });
   HeightFieldConfig bad = c;

@@ -5,20 +5,7 @@
 #include "height_shape.glsl"
 layout(local_size_x = 64) in;
 layout(std430, set = 0, binding = 0) readonly buffer Scratch { float scratch[]; };
-#ifdef REFRAX_FLOAT_ATOMIC_ADD
-layout(std430, set = 0, binding = 1) buffer Grad { float grad[]; };
-void addToGradient(uint index, float v) { atomicAdd(grad[index], v); }
-#else
-layout(std430, set = 0, binding = 1) buffer Grad { uint gradBits[]; };
-void addToGradient(uint index, float v) {
-  uint expected = gradBits[index];
-  for (;;) {
-    uint seen = atomicCompSwap(gradBits[index], expected, floatBitsToUint(uintBitsToFloat(expected) + v));
-    if (seen == expected) break;
-    expected = seen;
-  }
-}
-#endif
+#include "height_grad_output.glsl"
 
 void main() {
   uint weight = pc.weightBase + gl_GlobalInvocationID.x;
