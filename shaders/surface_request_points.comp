@@ -32,14 +32,21 @@ void main() {
       requestPoint(vi << shift, vj << shift);
     }
   } else {
+    // the 3 corners' rings overlap: 21 candidates, 12 distinct points; each requested once
+    ivec2 seen[21];
+    int n = 0;
     for (int c = 0; c < 3; c++) {
       int X, Y;
       finestCorner(i, j, side, c, pc.levels, X, Y);
-      requestPoint(X, Y);
-      for (int k = 0; k < 6; k++) {
-        int di, dj;
-        ringOffset(k, di, dj);
-        requestPoint(X + di, Y + dj);
+      for (int k = -1; k < 6; k++) {
+        int di = 0, dj = 0;
+        if (k >= 0) ringOffset(k, di, dj);
+        ivec2 q = ivec2(X + di, Y + dj);
+        bool fresh = true;
+        for (int m = 0; m < n; m++) fresh = fresh && seen[m] != q;
+        if (!fresh) continue;
+        seen[n++] = q;
+        requestPoint(q.x, q.y);
       }
     }
   }
