@@ -2,8 +2,8 @@
 #include "engine/height_field.h"
 
 #include <algorithm>
-#include <cstring>
 #include <chrono>
+#include <cstring>
 
 #include "engine/error.h"
 #include "engine/height_field_kernels.h"
@@ -85,7 +85,6 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
   requireBytes(dLossdWeights, hf.parameterCount * 4, "dLossdWeights", call);
   const HeightBackpropKernel backprop = heightBackpropKernel(hf);
   const bool useTiles = heightGradTilesAvailable(hf);
-  const ComputePipeline& grad = useTiles ? *backprop.pipeline : heightWeightGradPipeline(hf);
   HeightPush push = basePush(hf);
   cmdBarrier(cb);  // earlier recorded work (a layered forward) may still use the scratch
   const uint32_t maxGroups = hf.ctx->properties.limits.maxComputeWorkGroupCount[0];
@@ -100,6 +99,7 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
       cmdHeightGradTiles(cb, hf, push.count, dLossdWeights);
       continue;
     }
+    const ComputePipeline& grad = heightWeightGradPipeline(hf);
     uint32_t slices = groupsFor(push.count, kGradientSlice);
     uint64_t perDispatch = uint64_t(maxGroups) * 64;
     for (uint64_t base = 0; base < hf.parameterCount; base += perDispatch) {
