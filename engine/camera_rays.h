@@ -4,7 +4,6 @@
 // trainer's pieces (losses, Adam), recording starts with a barrier, so inputs may come from
 // the dispatch before and outputs be read by a later stage that does the same.
 #include <cstdint>
-
 #include <vector>
 
 #include "engine/camera.h"
