@@ -75,6 +75,14 @@ struct DensifyStats {
 DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const DensifyConfig& config, uint32_t step,
                      std::mt19937& rng, std::vector<uint32_t>& rowMap);
 
+// The same for the device copy the trainer holds: downloads dev's parameters and `stats`
+// (a buffer of 2 floats per Gaussian, as cmdTraceBackward accumulates them), densifies, and
+// replaces dev with a new upload when anything changed; `host` receives the new set (needed
+// to rebuild the proxies). The caller then remaps its Adam groups with rowMap and gives the
+// statistics buffer the new count (2 * after floats) filled with zeros.
+DensifyStats densify(Context& ctx, DeviceGaussians& dev, GaussianSet& host, const Buffer& stats, const DensifyConfig& config,
+                     uint32_t step, std::mt19937& rng, std::vector<uint32_t>& rowMap);
+
 // density = min(density, config.resetDensity) for every Gaussian (on the logits).
 void densityReset(GaussianSet& set, const DensifyConfig& config);
 // density *= config.decayFactor for every Gaussian (on the logits).

@@ -1,6 +1,7 @@
 // Densification on the host: hand-built sets where every clone, split and prune is known,
 // split children drawn from the parent's Gaussian (moments in its own frame), the row map
-// against the output, the cap, the schedule, density reset/decay against the double formulas.
+// against the output, the cap, the schedule, density reset/decay against the double formulas,
+// and the device-set entry point against the host one.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "engine/densify.h"
 #include "engine/error.h"
 #include "engine/gaussian_math.h"
+#include "tests/gpu_test.h"
 
 using namespace refrax;
 
@@ -309,4 +311,50 @@ TEST_CASE("densify: bad input is one clear error") {
   config = DensifyConfig{};
   config.densifyInterval = 0;
   CHECK_THROWS_AS(densityDecay(set, config), Error);
+}
+
+GPU_TEST_CASE("densify: the device set gives what the host set gives") {
+  RandomGaussianOptions options;
+  options.sigmaMin = 0.005f;
+  options.sigmaMax = 0.03f;
+  options.densityMin = 0.001f;
+  GaussianSet set = randomGaussians(rng, 300, options);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> stats(600);
+  for (size_t i = 0; i < 300; i++) stats[2 * i] = 1e-3f * u(rng), stats[2 * i + 1] = float(int(4 * u(rng)));
+  DeviceGaussians dev = uploadGaussians(ctx, set);
+  Buffer statsBuffer = createBufferFrom(ctx, stats);
+  DensifyConfig config;
+
+  SUBCASE("a step that changes the set") {
+    GaussianSet expected = set, host;
+    std::vector<uint32_t> expectedMap, rowMap;
+    std::mt19937 r1(11), r2(11);
+    DensifyStats want = densify(expected, stats, config, 600, r1, expectedMap);
+    REQUIRE(want.after != want.before);
+    DensifyStats got = densify(ctx, dev, host, statsBuffer, config, 600, r2, rowMap);
+    CHECK(got.after == want.after);
+    CHECK(got.cloned == want.cloned);
+    CHECK(got.split == want.split);
+    CHECK(rowMap == expectedMap);
+    CHECK(host.params == expected.params);
+    REQUIRE(dev.count == want.after);
+    CHECK(downloadGaussians(ctx, dev).params == expected.params);
+  }
+  SUBCASE("a step with nothing due keeps the device buffer") {
+    VkBuffer before = dev.params.buffer;
+    GaussianSet host;
+    std::vector<uint32_t> rowMap;
+    std::mt19937 r(1);
+    densify(ctx, dev, host, statsBuffer, config, 650, r, rowMap);
+    CHECK(dev.params.buffer == before);
+    CHECK(host.params == set.params);
+  }
+  SUBCASE("a statistics buffer too small is an error") {
+    Buffer small = createBuffer(ctx, 4 * 100);
+    GaussianSet host;
+    std::vector<uint32_t> rowMap;
+    std::mt19937 r(1);
+    CHECK_THROWS_AS(densify(ctx, dev, host, small, config, 600, r, rowMap), Error);
+  }
 }
