@@ -22,7 +22,7 @@ NPM_DIR=$BUILD/npm
 
 die() { echo "interop-check: FAILED: $*" >&2; exit 1; }
 
-command -v node >/dev/null 2>&1 || die "node is not installed (node >= 20 and npm are needed; see scripts/install-deps.sh)"
+command -v node >/dev/null 2>&1 || die "node is not installed (node >= 20 with npm is needed; bookworm's own nodejs is 18)"
 command -v npm >/dev/null 2>&1 || die "npm is not installed (node >= 20 and npm are needed)"
 command -v python3 >/dev/null 2>&1 || die "python3 is not installed"
 [ -x "$REFRAX" ] || die "no refrax binary at $REFRAX (build it first: cmake --build $BUILD -j2)"
