@@ -50,7 +50,7 @@ std::map<Key, double> gpuHeightGradients(Context& ctx, WaterSurface& ws, const H
   auto grid = downloadVector<float>(ctx, ws.gridGrad, ws.gridPointCount);
   const int K = int(ws.config.subdivisionLevels);
   for (uint32_t k = 0; k < ws.gridPointCount; k++)
-    if (grid[k] != 0) g[{(int(k % (ws.cellsX + 3)) - 1) << K, (int(k / (ws.cellsX + 3)) - 1) << K}] += grid[k];
+    if (grid[k] != 0) g[{(int(k % (ws.cellsX + 3)) - 1) * (1 << K), (int(k / (ws.cellsX + 3)) - 1) * (1 << K)}] += grid[k];  // border ring at -1: multiply, a negative shift is UB
   uint32_t np = ws.lastCounters.points;
   auto pg = downloadVector<float>(ctx, ws.pointGrad, np);
   auto pts = downloadVector<float>(ctx, ws.points, size_t(np) * 2);
