@@ -1,0 +1,111 @@
+#pragma once
+// The differentiable water surface (DESIGN.md 1.2, 1.3, 1.5; paper Alg. 1): a proxy mesh
+// lifted from a height field, one ray query per camera ray against it, K levels of
+// recursive subdivision tracing, Phong-interpolated vertex normals, Snell's law; and the
+// backward from dL/d(refracted ray) to dL/dheights and on to H's parameters.
+//
+// Per step:  cmdUpdateSurface (H at the coarse vertices, BLAS refit)
+//            traceSurface     (refracted rays + per-ray records; submits K + 2 times: the
+//                              number of new lattice points of each level is read back so
+//                              H is evaluated exactly once per unique new point)
+//            cmdBackwardSurface (uses the records and lattice of the last traceSurface)
+// The lattice, its numbering, the normals and the child choice are described in
+// shaders/include/surface_geometry.glsl.
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "engine/height_source.h"
+#include "engine/rays.h"
+#include "engine/surface_record.h"
+#include "engine/vk_accel.h"
+#include "engine/vk_buffer.h"
+#include "engine/vk_pipeline.h"
+
+namespace refrax {
+
+struct Context;
+
+struct SurfaceDomain {
+  float x0 = -1, y0 = -1, x1 = 1, y1 = 1;
+};
+
+struct WaterSurfaceConfig {
+  SurfaceDomain domain;
+  uint32_t gridCells = 200;         // coarse cells per side (201 x 201 vertices)
+  uint32_t subdivisionLevels = 2;   // K; 0 traces the coarse mesh only
+  float ior = 1.33f;                // n_water (n_air = 1)
+  bool faceNormals = false;         // flat face normals (ablation (b)) instead of interpolated vertex normals
+  uint32_t maxRays = 392 * 392;     // the most rays one traceSurface call takes
+  bool keepHitNormals = false;      // also write hit and vertex normals per ray (tests, viewer)
+};
+
+// What the last trace (and backward) counted.
+struct SurfaceCounters {
+  uint32_t points = 0;              // unique lattice points evaluated beyond the coarse grid
+  uint32_t missed = 0;              // rays that missed the domain (continued unrefracted)
+  uint32_t invalid = 0;             // NaN/inf or zero-length rays
+  uint32_t fallback = 0;            // rays that kept a child by plane distance at some level
+  uint32_t nonFiniteGradients = 0;  // rays whose incoming gradient was NaN/inf (skipped)
+  uint32_t lookupFailures = 0;      // must stay 0
+  uint32_t degenerate = 0;          // rays parallel to their triangle
+  uint32_t backFacing = 0;          // rays whose normal had to be flipped
+};
+
+struct SurfacePipelines {
+  ComputePipeline gridPoints, gridVertices, globalTrace, requestPoints, subdivide, refract, backward;
+};
+
+struct WaterSurface {
+  Context* ctx = nullptr;
+  WaterSurfaceConfig config;
+  uint32_t cellsX = 0, cellsY = 0;
+  float spacingX = 0, spacingY = 0;  // finest-lattice spacing
+  uint32_t gridPointCount = 0;       // (cellsX + 3) * (cellsY + 3): coarse vertices with a border ring
+
+  Buffer gridPoints, gridHeights, gridGrad;  // coarse lattice incl. border: xy, H, dL/dH
+  Buffer vertices, indices, cellOrder;       // the BLAS input (interior vertices), Morton cell order
+  AccelStruct blas;
+  TopLevel top;
+
+  // Lattice points beyond the coarse grid, found through a hash of their coordinates.
+  Buffer hashKeys, hashValues, points, pointHeights, pointGrad;
+  Buffer evalPoints, evalHeights;  // one level's new points, handed to the height source
+  Buffer counters, hitNormals;
+  uint32_t hashCapacity = 0, pointCapacity = 0;
+
+  SurfacePipelines pipelines;
+  bool floatAtomics = false;  // the backward uses float atomicAdd (else a CAS loop)
+
+  // State of the last traceSurface, used by cmdBackwardSurface.
+  uint32_t lastRayCount = 0, lastHashMask = 0;
+  SurfaceCounters lastCounters;
+  bool updated = false;
+};
+
+// forceCasAtomics: use the compare-and-swap backward even where float atomics exist (tests).
+WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, bool forceCasAtomics = false);
+
+// H at every coarse vertex, written into the BLAS vertices, BLAS/TLAS refit (built the first time).
+void cmdUpdateSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights);
+
+// GPU milliseconds per stage of the last traceSurface (when asked for).
+using SurfaceTimings = std::map<std::string, double>;
+
+// Traces `count` camera rays (GpuRay) through the surface: refractedRays gets one GpuRay per
+// ray (origin = hit point, direction = refracted; unchanged for rays that miss the domain;
+// an empty ray for invalid input), records one SurfaceRecord per ray. Submits and waits.
+void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, uint32_t count,
+                  Buffer& refractedRays, Buffer& records, SurfaceTimings* timings = nullptr);
+
+// From dLoss/d(refracted origin, direction) per ray (GpuRayGrad) to dLoss/dheight of every
+// lattice point the last trace used (ws.gridGrad, ws.pointGrad), then through
+// heights.accumulateGradients into H's parameters. Same rays/records/count as the trace.
+void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, const Buffer& records,
+                        const Buffer& rayGrads, uint32_t count);
+
+// Counters of the last trace and backward (reads them back; waits for nothing else).
+SurfaceCounters readSurfaceCounters(Context& ctx, WaterSurface& ws);
+inline uint32_t missedRayCount(Context& ctx, WaterSurface& ws) { return readSurfaceCounters(ctx, ws).missed; }
+
+}  // namespace refrax
