@@ -1,0 +1,226 @@
+#include "engine/gaussian_trace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "engine/error.h"
+#include "engine/gaussian_math.h"
+#include "engine/presort.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
+
+namespace refrax {
+
+namespace {
+
+struct TracePush {
+  float background[4];
+  uint32_t count, shDegree, maxRounds, pad;
+};
+struct PreparePush {
+  uint32_t count, instanced;
+  uint32_t blasAddress[2];
+};
+
+constexpr uint32_t kTraceGaussianBytes = 48;
+constexpr uint32_t kInstanceBytes = sizeof(VkAccelerationStructureInstanceKHR);
+static_assert(kInstanceBytes == 64, "instance layout written by gaussian_prepare.comp");
+
+std::vector<SpecConstant> traceSpec(uint32_t K, ProxyKind kind) { return {{0, K}, {1, kind == ProxyKind::InstancedUnitBox ? 1u : 0u}}; }
+
+const ComputePipeline& forwardPipeline(GaussianTracer& t, ProxyKind kind) {
+  ComputePipeline& p = t.forward[uint32_t(kind)];
+  if (!p.pipeline)
+    p = createComputePipeline(*t.ctx, "gaussian_forward", {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                              sizeof(TracePush), traceSpec(t.K, kind));
+  return p;
+}
+
+const ComputePipeline& backwardPipeline(GaussianTracer& t, ProxyKind kind) {
+  ComputePipeline& p = t.backward[uint32_t(kind)];
+  if (!p.pipeline)
+    p = createComputePipeline(*t.ctx, t.casAtomics ? "gaussian_backward_cas" : "gaussian_backward",
+                              {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
+                               kStorageBuffer, kStorageBuffer},
+                              sizeof(TracePush), traceSpec(t.K, kind));
+  return p;
+}
+
+const ComputePipeline& preparePipeline(GaussianTracer& t) {
+  if (!t.prepare.pipeline)
+    t.prepare = createComputePipeline(*t.ctx, "gaussian_prepare", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                                      sizeof(PreparePush));
+  return t.prepare;
+}
+
+// The same box as gaussian_prepare.comp, on the host, only to choose the order.
+Box hostProxyBox(const float* g) {
+  using namespace f64;
+  real3 mu(g[kGaussMean], g[kGaussMean + 1], g[kGaussMean + 2]);
+  real3x3 R = rotationOf(real4(g[kGaussRotation], g[kGaussRotation + 1], g[kGaussRotation + 2], g[kGaussRotation + 3]));
+  real3 s = glm::exp(real3(g[kGaussLogScale], g[kGaussLogScale + 1], g[kGaussLogScale + 2]));
+  real radius = proxyRadiusOf(sigmoidOf(g[kGaussLogitDensity]));
+  real3 e;
+  for (int a = 0; a < 3; a++) e[a] = radius * length(real3(R[0][a] * s.x, R[1][a] * s.y, R[2][a] * s.z));
+  return {float(mu.x - e.x), float(mu.y - e.y), float(mu.z - e.z), float(mu.x + e.x), float(mu.y + e.y), float(mu.z + e.z)};
+}
+
+// Rays from the host: a NaN or zero direction would turn into NaN colours and gradients.
+void validateRays(const std::vector<GpuRay>& rays) {
+  for (size_t i = 0; i < rays.size(); i++) {
+    const GpuRay& r = rays[i];
+    bool finite = std::isfinite(r.tmin) && std::isfinite(r.tmax);
+    for (int a = 0; a < 3; a++) finite = finite && std::isfinite(r.origin[a]) && std::isfinite(r.dir[a]);
+    if (!finite) fail("ray " + std::to_string(i) + " has a non-finite origin, direction or range");
+    if (r.dir[0] == 0 && r.dir[1] == 0 && r.dir[2] == 0) fail("ray " + std::to_string(i) + " has a zero direction");
+    if (r.tmin < 0 || r.tmax < r.tmin) fail("ray " + std::to_string(i) + " has an invalid range [tmin, tmax]");
+  }
+}
+
+TracePush tracePush(uint32_t count, const TraceOptions& o) {
+  TracePush push{};
+  for (int c = 0; c < 3; c++) push.background[c] = o.background[c];
+  push.count = count;
+  push.shDegree = o.shDegree;
+  push.maxRounds = std::max(o.maxRounds, 1u);
+  if (o.shDegree > 3) fail("SH degree " + std::to_string(o.shDegree) + " is above 3");
+  return push;
+}
+
+}  // namespace
+
+const char* proxyKindName(ProxyKind kind) { return kind == ProxyKind::AabbBlas ? "aabb-blas" : "instanced-unit-box"; }
+
+ProxyKind proxyKindFor(const std::string& choice, const DeviceCaps& caps) {
+  if (choice == "aabb") return ProxyKind::AabbBlas;
+  if (choice == "instanced") return ProxyKind::InstancedUnitBox;
+  if (choice != "auto") fail("unknown Gaussian proxy '" + choice + "' (aabb, instanced or auto)");
+  return caps.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? ProxyKind::AabbBlas : ProxyKind::InstancedUnitBox;
+}
+
+GaussianTracer createGaussianTracer(Context& ctx, uint32_t K, bool casAtomics) {
+  if (K == 0 || K > 64) fail("k-buffer size " + std::to_string(K) + " is outside 1..64");
+  GaussianTracer t;
+  t.ctx = &ctx;
+  t.K = K;
+  t.casAtomics = casAtomics || !ctx.caps.floatAtomicAdd;
+  return t;
+}
+
+GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, const GaussianSet& host,
+                                     ProxyKind kind, bool allowUpdate) {
+  if (host.count() != gaussians.count) fail("buildGaussianProxies: host and device Gaussian counts differ");
+  if (gaussians.count > 0xFFFFFFu) fail("more than 16M Gaussians (instance custom indices have 24 bits)");
+  GaussianProxies p;
+  p.kind = kind;
+  p.count = gaussians.count;
+  p.allowUpdate = allowUpdate;
+  std::vector<Box> boxes(p.count);
+  for (uint32_t i = 0; i < p.count; i++) boxes[i] = hostProxyBox(host.at(i));
+  p.order = medianSplitOrder(boxes);
+  p.orderBuffer = createBufferFrom(ctx, p.order);
+  p.trace = createBuffer(ctx, VkDeviceSize(p.count) * kTraceGaussianBytes);
+  AccelOptions opts{allowUpdate, false};
+  if (kind == ProxyKind::AabbBlas) {
+    p.boxes = createBuffer(ctx, VkDeviceSize(p.count) * sizeof(Box), kAccelInput);
+    p.instances = createBuffer(ctx, kInstanceBytes, kAccelInput);
+    p.blas = createAabbBlas(ctx, p.boxes, p.count, opts);
+    VkAccelerationStructureInstanceKHR inst = makeInstance(p.blas, 0, nullptr, VK_GEOMETRY_INSTANCE_FORCE_NO_OPAQUE_BIT_KHR);
+    upload(ctx, p.instances, &inst, sizeof(inst));
+    p.tlas = createTlas(ctx, p.instances, 1, opts);
+  } else {
+    Box unit{-1, -1, -1, 1, 1, 1};
+    p.unitBox = createBufferFrom(ctx, std::vector<Box>{unit}, kAccelInput);
+    p.blas = createAabbBlas(ctx, p.unitBox, 1);
+    p.boxes = createBuffer(ctx, sizeof(Box));  // placeholder binding
+    p.instances = createBuffer(ctx, VkDeviceSize(p.count) * kInstanceBytes, kAccelInput);
+    p.tlas = createTlas(ctx, p.instances, p.count, opts);
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBuild(cb, p.blas); });
+  }
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateGaussianProxies(cb, tracer, p, gaussians, false); });
+  return p;
+}
+
+void cmdUpdateGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, GaussianProxies& p, const DeviceGaussians& gaussians, bool refit) {
+  if (gaussians.count != p.count) fail("Gaussian count changed since the proxies were built (rebuild them)");
+  PreparePush push{p.count, p.kind == ProxyKind::InstancedUnitBox ? 1u : 0u, {0, 0}};
+  if (p.kind == ProxyKind::InstancedUnitBox) {
+    push.blasAddress[0] = uint32_t(p.blas.address & 0xFFFFFFFFu);
+    push.blasAddress[1] = uint32_t(p.blas.address >> 32);
+  }
+  // Each variant binds the buffer it does not use at its small placeholder size; the
+  // shader writes boxes only for the AABB variant and instances only for the instanced one.
+  cmdDispatch(cb, preparePipeline(tracer), {bind(gaussians.params), bind(p.orderBuffer), bind(p.trace), bind(p.boxes), bind(p.instances)},
+              &push, groupsFor(p.count, 64));
+  cmdBarrier(cb);
+  if (p.kind == ProxyKind::AabbBlas) {
+    if (refit) cmdRefit(cb, p.blas); else cmdBuild(cb, p.blas);
+    cmdBarrier(cb);
+  }
+  if (refit) cmdRefit(cb, p.tlas); else cmdBuild(cb, p.tlas);
+  cmdBarrier(cb);
+}
+
+void updateGaussianProxies(Context& ctx, GaussianTracer& tracer, GaussianProxies& proxies, const DeviceGaussians& gaussians, bool refit) {
+  if (refit && !proxies.allowUpdate) fail("refit of Gaussian proxies built without allowUpdate");
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateGaussianProxies(cb, tracer, proxies, gaussians, refit); });
+}
+
+void cmdTraceForward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const DeviceGaussians& gaussians,
+                     const Buffer& rays, const Buffer& results, uint32_t count, const TraceOptions& options) {
+  TracePush push = tracePush(count, options);
+  cmdDispatch(cb, forwardPipeline(tracer, proxies.kind),
+              {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results)}, &push, groupsFor(count, 64));
+}
+
+void cmdTraceBackward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const DeviceGaussians& gaussians,
+                      const Buffer& rays, const Buffer& results, const Buffer& dLoss, const Buffer& grads, const Buffer& stats,
+                      const Buffer& rayGrads, uint32_t count, const TraceOptions& options) {
+  TracePush push = tracePush(count, options);
+  cmdDispatch(cb, backwardPipeline(tracer, proxies.kind),
+              {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results), bind(dLoss), bind(grads),
+               bind(stats), bind(rayGrads)},
+              &push, groupsFor(count, 64));
+}
+
+std::vector<GpuTraceResult> traceGaussians(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
+                                           const DeviceGaussians& gaussians, const std::vector<GpuRay>& rays, const TraceOptions& options) {
+  if (rays.empty()) return {};
+  validateRays(rays);
+  Buffer rayBuf = createBufferFrom(ctx, rays);
+  Buffer resultBuf = createBuffer(ctx, rays.size() * sizeof(GpuTraceResult));
+  fillBuffer(ctx, resultBuf, 0x7FC00000u);  // NaN: a result the shader did not write shows
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, tracer, proxies, gaussians, rayBuf, resultBuf, uint32_t(rays.size()), options); });
+  return downloadVector<GpuTraceResult>(ctx, resultBuf, rays.size());
+}
+
+GaussianGradients traceGaussiansBackward(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
+                                         const DeviceGaussians& gaussians, const std::vector<GpuRay>& rays,
+                                         const std::vector<GpuTraceResult>& forward, const std::vector<float>& dLoss,
+                                         const TraceOptions& options) {
+  if (forward.size() != rays.size() || dLoss.size() != 4 * rays.size()) fail("traceGaussiansBackward: per-ray inputs of different sizes");
+  for (float v : dLoss)
+    if (!std::isfinite(v)) fail("traceGaussiansBackward: non-finite loss gradient");
+  GaussianGradients out;
+  if (rays.empty()) return out;
+  validateRays(rays);
+  Buffer rayBuf = createBufferFrom(ctx, rays);
+  Buffer fwdBuf = createBufferFrom(ctx, forward);
+  Buffer lossBuf = createBufferFrom(ctx, dLoss);
+  Buffer gradBuf = createBuffer(ctx, VkDeviceSize(gaussians.count) * kGaussianFloats * 4);
+  Buffer statBuf = createBuffer(ctx, VkDeviceSize(gaussians.count) * 2 * 4);
+  Buffer rayGradBuf = createBuffer(ctx, rays.size() * sizeof(GpuRayGrad));
+  fillBuffer(ctx, gradBuf, 0);
+  fillBuffer(ctx, statBuf, 0);
+  fillBuffer(ctx, rayGradBuf, 0x7FC00000u);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdTraceBackward(cb, tracer, proxies, gaussians, rayBuf, fwdBuf, lossBuf, gradBuf, statBuf, rayGradBuf, uint32_t(rays.size()), options);
+  });
+  out.params = downloadVector<float>(ctx, gradBuf, size_t(gaussians.count) * kGaussianFloats);
+  out.stats = downloadVector<float>(ctx, statBuf, size_t(gaussians.count) * 2);
+  out.rays = downloadVector<GpuRayGrad>(ctx, rayGradBuf, rays.size());
+  return out;
+}
+
+}  // namespace refrax

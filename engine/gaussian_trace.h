@@ -1,0 +1,109 @@
+#pragma once
+// The refraction-aware Gaussian ray tracer (3DGRT k-buffer on ray queries, DESIGN 1.4-1.5):
+// proxies in an acceleration structure, a forward pass over any list of rays (camera rays
+// or rays refracted at the water surface) and its backward to per-Gaussian gradients and
+// per-ray dL/d(origin, direction).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/gaussians.h"
+#include "engine/rays.h"
+#include "engine/vk_accel.h"
+#include "engine/vk_pipeline.h"
+
+namespace refrax {
+
+// Which proxies stand for the Gaussians in the BVH.
+enum class ProxyKind : uint32_t {
+  AabbBlas = 0,          // one AABB per Gaussian in a single BLAS (presorted, median split)
+  InstancedUnitBox = 1,  // a unit-box BLAS instanced per Gaussian (transform = scaled rotation)
+};
+const char* proxyKindName(ProxyKind kind);
+struct DeviceCaps;
+// "aabb", "instanced" or "auto". Auto picks the variant `refrax bench tracer` measured
+// faster on this kind of device: the AABB BLAS on CPU devices (lavapipe); on GPUs, not
+// measured here, the reference implementation's default, the instanced unit box.
+ProxyKind proxyKindFor(const std::string& choice, const DeviceCaps& caps);
+
+// Host mirror of TraceResult (shaders/include/gaussian_trace_types.glsl).
+struct GpuTraceResult {
+  float rgb[3];
+  float opacity;        // 1 - transmittance
+  float depth;          // sum_k T_k alpha_k t_k
+  float transmittance;  // the background's weight
+  uint32_t hits;        // hits blended
+  uint32_t rounds;      // k-buffer rounds traced
+};
+static_assert(sizeof(GpuTraceResult) == 32, "GpuTraceResult must match the std430 TraceResult");
+
+struct TraceOptions {
+  float background[3] = {0, 0, 0};
+  uint32_t shDegree = 3;
+  uint32_t maxRounds = 1u << 20;  // a safety net only: every round makes progress
+};
+
+// Pipelines, compiled on first use (lavapipe JIT-compiles each one).
+struct GaussianTracer {
+  Context* ctx = nullptr;
+  uint32_t K = 16;
+  bool casAtomics = false;  // compare-and-swap instead of float atomicAdd (forced where the device lacks it)
+  ComputePipeline prepare;
+  ComputePipeline forward[2];
+  ComputePipeline backward[2];
+};
+// K: k-buffer size (specialization constant). casAtomics: force the fallback even where
+// float atomics exist (tests use it to cover both paths).
+GaussianTracer createGaussianTracer(Context& ctx, uint32_t K = 16, bool casAtomics = false);
+
+struct GaussianProxies {
+  ProxyKind kind = ProxyKind::AabbBlas;
+  uint32_t count = 0;
+  std::vector<uint32_t> order;  // order[slot] = Gaussian id (slot = BLAS primitive / TLAS instance)
+  Buffer orderBuffer;
+  Buffer trace;      // TraceGaussian per slot (AABB variant) or per id (instanced variant)
+  Buffer boxes;      // AABB per slot (AABB variant; written in both)
+  Buffer instances;  // VkAccelerationStructureInstanceKHR per slot (TLAS of either variant)
+  Buffer unitBox;    // the one box [-1,1]^3 (instanced variant)
+  AccelStruct blas;
+  AccelStruct tlas;
+  bool allowUpdate = false;
+};
+
+// Orders the proxies (median split of the boxes, computed on the host from `host`), writes
+// them from the device parameters and builds the acceleration structures.
+GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, const GaussianSet& host,
+                                     ProxyKind kind, bool allowUpdate = true);
+// After the Gaussians moved (same count): rewrite the proxies and refit (keeps the order
+// and the tree topology) or rebuild the tree in the same order.
+void cmdUpdateGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, GaussianProxies& proxies, const DeviceGaussians& gaussians,
+                              bool refit);
+void updateGaussianProxies(Context& ctx, GaussianTracer& tracer, GaussianProxies& proxies, const DeviceGaussians& gaussians, bool refit);
+
+// Recorded passes over device buffers (for pipelines of several stages and benchmarks).
+// rays: GpuRay[count]; results: GpuTraceResult[count]; dLoss: float4 (dL/dRGB, dL/dopacity)
+// per ray; grads: kGaussianFloats floats per Gaussian and stats: 2 floats per Gaussian
+// (position-gradient norm sum, hit count), both accumulated into (zero them first);
+// rayGrads: GpuRayGrad[count].
+void cmdTraceForward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const DeviceGaussians& gaussians,
+                     const Buffer& rays, const Buffer& results, uint32_t count, const TraceOptions& options = {});
+void cmdTraceBackward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const DeviceGaussians& gaussians,
+                      const Buffer& rays, const Buffer& results, const Buffer& dLoss, const Buffer& grads, const Buffer& stats,
+                      const Buffer& rayGrads, uint32_t count, const TraceOptions& options = {});
+
+// Whole passes from host vectors.
+std::vector<GpuTraceResult> traceGaussians(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
+                                           const DeviceGaussians& gaussians, const std::vector<GpuRay>& rays,
+                                           const TraceOptions& options = {});
+struct GaussianGradients {
+  std::vector<float> params;     // kGaussianFloats per Gaussian
+  std::vector<float> stats;      // 2 per Gaussian: sum of |dL/dmean| * distance / 2, rays that blended it
+  std::vector<GpuRayGrad> rays;  // per ray
+};
+// dLoss: 4 floats per ray (dL/dR, dL/dG, dL/dB, dL/dopacity); `forward` from traceGaussians.
+GaussianGradients traceGaussiansBackward(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
+                                         const DeviceGaussians& gaussians, const std::vector<GpuRay>& rays,
+                                         const std::vector<GpuTraceResult>& forward, const std::vector<float>& dLoss,
+                                         const TraceOptions& options = {});
+
+}  // namespace refrax

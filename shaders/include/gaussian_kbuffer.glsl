@@ -1,0 +1,79 @@
+// The k-buffer traversal shared by the Gaussian forward and backward shaders (GLSL only).
+// Before including: the spec constants K (k-buffer size) and kInstanced (proxy variant),
+// the acceleration structure `scene`, the buffer `tg` of TraceGaussian and `params` (raw
+// Gaussian parameters, for SH).
+//
+// Each round collects the K closest accepted hits beyond the previous round's last hit,
+// ordered by (t, Gaussian id) so that equal t values cannot be skipped or repeated; the
+// caller blends them and starts the next round from the last one. Mathematically this
+// visits the accepted hits in the same order as a full sort.
+#ifndef REFRAX_GAUSSIAN_KBUFFER_GLSL
+#define REFRAX_GAUSSIAN_KBUFFER_GLSL
+float kt[K];
+float ka[K];  // unclamped alpha (density * kernel)
+uint kid[K];
+
+bool keyBefore(float t0, uint id0, float t1, uint id1) { return t0 < t1 || (t0 == t1 && id0 < id1); }
+
+// Fills kt/ka/kid with up to K accepted hits after (tcur, idcur) and before tmax, sorted;
+// returns how many.
+int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
+  int n = 0;
+  float invLen2 = 1.0 / dot(d, d);
+  rayQueryEXT rq;
+  // a little before tcur, so a Gaussian peaking right at tcur still overlaps the interval
+  float tq = max(0.0, tcur - 1e-5 * (1.0 + abs(tcur)));
+  rayQueryInitializeEXT(rq, scene, gl_RayFlagsNoOpaqueEXT, 0xFF, o, tq, d, tmax);
+  while (rayQueryProceedEXT(rq)) {
+    if (rayQueryGetIntersectionTypeEXT(rq, false) != gl_RayQueryCandidateIntersectionAABBEXT) continue;
+    uint slot = kInstanced ? rayQueryGetIntersectionInstanceCustomIndexEXT(rq, false)
+                           : rayQueryGetIntersectionPrimitiveIndexEXT(rq, false);
+    // only what the test needs is loaded (each load is per lane on a CPU device)
+    vec4 md = tg[slot].meanDensity;
+    vec4 a0 = tg[slot].a0;
+    vec2 a1 = tg[slot].a1.xy;
+    mat3 A = mat3(a0.x, a0.y, a0.z, a0.y, a0.w, a1.x, a0.z, a1.x, a1.y);
+    float t;
+    float m = gaussianPeakPrecision(o, d, invLen2, md.xyz, A, t);
+    // cheap pre-test before the exp: outside the (padded) cut-off ellipsoid acceptedAlpha
+    // would reject the hit anyway
+    if (m >= tg[slot].a1.w) continue;
+    float a = acceptedAlpha(m, md.w);
+    if (a == 0.0 || t >= tmax) continue;
+    uint id = floatBitsToUint(tg[slot].a1.z);
+    if (!keyBefore(tcur, idcur, t, id)) continue;
+    if (n == K && !keyBefore(t, id, kt[K - 1], kid[K - 1])) continue;
+    int j = min(n, K - 1);
+    while (j > 0 && keyBefore(t, id, kt[j - 1], kid[j - 1])) {
+      kt[j] = kt[j - 1];
+      ka[j] = ka[j - 1];
+      kid[j] = kid[j - 1];
+      j--;
+    }
+    kt[j] = t;
+    ka[j] = a;
+    kid[j] = id;
+    if (n < K) n++;
+    // buffer full: shrink the ray to the K-th hit so traversal culls everything beyond
+    if (n == K) rayQueryGenerateIntersectionEXT(rq, kt[K - 1]);
+  }
+  return n;
+}
+
+// SH basis along the ray, evaluated once per ray (it depends only on the direction).
+float shY[16];
+void evaluateShBasis(vec3 dn, uint coefficients) {
+  for (uint k = 0u; k < kShCoefficients; k++) shY[k] = k < coefficients ? shBasis(k, dn) : 0.0;  // unrolls, each folds
+}
+
+// SH colour of Gaussian `id` with the ray's basis shY (+0.5, before the clamp at 0).
+vec3 shColorRaw(uint id, uint coefficients) {
+  uint base = id * kGaussFloats + kGaussSH;
+  vec3 c = vec3(0.5);
+  for (uint k = 0u; k < kShCoefficients; k++) {
+    if (k >= coefficients) break;
+    c += shY[k] * vec3(params[base + 3u * k], params[base + 3u * k + 1u], params[base + 3u * k + 2u]);
+  }
+  return c;
+}
+#endif

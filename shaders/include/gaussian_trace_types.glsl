@@ -1,0 +1,24 @@
+// Records of the Gaussian tracer shaders (GLSL only; host mirrors in engine/gaussian_trace.h).
+#ifndef REFRAX_GAUSSIAN_TRACE_TYPES_GLSL
+#define REFRAX_GAUSSIAN_TRACE_TYPES_GLSL
+#include "gaussian_math.glsl"
+
+// What the tracer reads per candidate (48 bytes): mean and density; the precision matrix
+// A = M^T M as a00 a01 a02 a11 | a12 a22; the Gaussian's id (bits) and the squared cut-off
+// radius (slightly padded). Written by gaussian_prepare.comp in proxy order.
+struct TraceGaussian {
+  vec4 meanDensity;
+  vec4 a0;  // a00 a01 a02 a11
+  vec4 a1;  // a12 a22 id radius^2
+};
+
+// Per-ray forward output (engine/gaussian_trace.h GpuTraceResult).
+struct TraceResult {
+  vec4 rgbOpacity;
+  float depth;          // sum of T_k alpha_k t_k (not normalised)
+  float transmittance;  // T after the last blended hit (the background's weight)
+  uint hits;            // hits blended
+  uint rounds;          // k-buffer rounds traced
+};
+
+#endif
