@@ -3,7 +3,7 @@
 # Usage: bench/tracer.sh [extra refrax bench options]   (build first)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-shared=${REFRAX_SHARED:-/work/shared}
+shared=${REFRAX_SHARED:-../shared}
 probe_dir=build/rqprobe
 if [ ! -x "$probe_dir/rqprobe" ]; then
   rm -rf "$probe_dir" && mkdir -p "$probe_dir"

@@ -3,16 +3,9 @@
 // centre of each pixel, unit direction, t in [tmin, tmax]. Like every cmd* stage of the
 // trainer's pieces (losses, Adam), recording starts with a barrier, so inputs may come from
 // the dispatch before and outputs be read by a later stage that does the same.
-//
-// Also pinhole camera rays on the host (cameraRays), for rendering without refraction (water
-// removal) and for tests: the convention of shaders/include/camera.glsl (pixel centre
-// (px+0.5, py+0.5) maps to forward + u*right - v*up, right/up pre-scaled by the half-fov
-// tangents), with the camera from engine/fly_camera.h.
 #include <cstdint>
-#include <vector>
 
 #include "engine/camera.h"
-#include "engine/fly_camera.h"
 #include "engine/rays.h"
 #include "engine/vk_buffer.h"
 #include "engine/vk_pipeline.h"
@@ -32,8 +25,5 @@ void cmdCameraRays(VkCommandBuffer cb, const CameraRayPipelines& p, const Camera
 // The listed pixels (uint32 y * width + x each): rays[i] for pixels[i], i < count.
 void cmdCameraRaysForPixels(VkCommandBuffer cb, const CameraRayPipelines& p, const Camera& camera, const Buffer& pixels,
                             uint32_t count, const Buffer& rays, float tmin, float tmax);
-
-// Host: one ray per pixel, row-major from the top-left; unit directions.
-std::vector<GpuRay> cameraRays(const GpuPinholeCamera& camera, uint32_t width, uint32_t height, float tmin = 0.0f, float tmax = 1e6f);
 
 }  // namespace refrax

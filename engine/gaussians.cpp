@@ -12,6 +12,7 @@ static_assert(kGaussianFloats == f32::kGaussFloats, "host and shader Gaussian la
 
 DeviceGaussians uploadGaussians(Context& ctx, const GaussianSet& set) {
   if (set.count() == 0) fail("no Gaussians to upload");
+  validateGaussians(set, "Gaussians to upload");
   DeviceGaussians dev;
   dev.count = uint32_t(set.count());
   dev.params = createBufferFrom(ctx, set.params);
@@ -20,6 +21,7 @@ DeviceGaussians uploadGaussians(Context& ctx, const GaussianSet& set) {
 
 void updateGaussians(Context& ctx, DeviceGaussians& dev, const GaussianSet& set) {
   if (set.count() != dev.count) fail("updateGaussians: the Gaussian count changed (rebuild instead)");
+  validateGaussians(set, "Gaussians to upload");
   upload(ctx, dev.params, set.params.data(), set.params.size() * sizeof(float));
 }
 

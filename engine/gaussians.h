@@ -21,7 +21,7 @@ struct GaussianSet {
   const float* at(size_t i) const { return params.data() + i * kGaussianFloats; }
 };
 
-// The device copy of a GaussianSet (same flat layout).
+// The device copy of a GaussianSet (same flat layout). Uploads are validated first.
 struct DeviceGaussians {
   Buffer params;
   uint32_t count = 0;

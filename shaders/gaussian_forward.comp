@@ -41,7 +41,8 @@ void main() {
     int n = collectHits(o, d, tcur, idcur, ray.dirTmax.w);
     for (int k = 0; k < n; k++) {
       float alpha = clampedAlpha(ka[k]);
-      vec3 c = max(shColorRaw(kid[k], coefficients), vec3(0.0));
+      loadShCoefficients(kid[k], coefficients);
+      vec3 c = max(shColorRaw(), vec3(0.0));
       rgb += (T * alpha) * c;
       depth += T * alpha * kt[k];
       T *= 1.0 - alpha;

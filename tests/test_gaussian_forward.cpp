@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <numeric>
 
-#include "engine/camera_rays.h"
+#include "engine/reference/camera_rays_ref.h"
+#include "engine/water_removal.h"
 #include "engine/gaussian_math.h"
 #include "engine/gaussian_trace.h"
 #include "tests/gaussian_test_scene.h"
@@ -133,12 +134,23 @@ GPU_TEST_CASE("water removal: straight camera rays through the Gaussians match t
   GaussianTracer tracer = createGaussianTracer(ctx);
   GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
   std::uniform_real_distribution<float> U(-0.3f, 0.3f);
-  FlyCamera cam;
-  lookAt(cam, {U(rng), -1.5f, 1.1f}, {U(rng), U(rng), -0.4f});
-  auto rays = cameraRays(toGpuCamera(cam, 48, 40), 48, 40);
+  FlyCamera fly;
+  lookAt(fly, {U(rng), -1.5f, 1.1f}, {U(rng), U(rng), -0.4f});
+  Camera cam = cameraFromFly(fly, 48, 40);
   TraceOptions opt;
   opt.background[2] = 0.25f;
-  auto gpu = traceGaussians(ctx, tracer, proxies, dev, rays, opt);
+  CameraRayPipelines cameraPipelines = createCameraRayPipelines(ctx);
+  std::vector<GpuRay> rays;
+  auto gpu = renderWithoutWater(ctx, tracer, cameraPipelines, proxies, dev, cam, opt, &rays);
+  // the camera rays are the straight rays of the dataset camera (no refraction anywhere)
+  double worstDir = 0;
+  for (int y = 0; y < 40; y++)
+    for (int x = 0; x < 48; x++) {
+      ref::CameraRay want = ref::cameraRay(cam, x, y);
+      const GpuRay& r = rays[size_t(y) * 48 + x];
+      worstDir = std::max(worstDir, glm::length(glm::dvec3(r.dir[0], r.dir[1], r.dir[2]) - want.dir));
+    }
+  CHECK(worstDir < 1e-6);
   auto cmp = compareForward(set, rays, gpu, toOptionsD(opt));
   INFO(cmp.firstProblem << " worst colour " << cmp.worstColorRel);
   CHECK(cmp.poisoned == 0);
@@ -169,6 +181,10 @@ GPU_TEST_CASE("Gaussian tracer refuses bad input with one clear error") {
   GaussianSet bad = set;
   bad.at(3)[2] = std::nanf("");
   CHECK_THROWS_AS(validateGaussians(bad, "test"), Error);
+  CHECK_THROWS_WITH_AS(uploadGaussians(ctx, bad), doctest::Contains("non-finite"), Error);
+  GaussianSet zeroRotation = set;
+  for (int a = 0; a < 4; a++) zeroRotation.at(1)[3 + a] = 0.0f;
+  CHECK_THROWS_WITH_AS(updateGaussians(ctx, dev, zeroRotation), doctest::Contains("zero rotation"), Error);
 }
 
 TEST_CASE("the tracer's precision-matrix kernel equals the M-form kernel of the reference") {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "engine/camera_rays.h"
+#include "engine/water_removal.h"
 #include "engine/error.h"
 #include "engine/gaussian_math.h"
 #include "engine/gaussian_trace.h"
@@ -188,7 +189,13 @@ int runBenchTracer(const cli::Args& args) {
   FlyCamera cam;  // the probe's aabb camera
   lookAt(cam, {0.f, -2.0f, 1.2f}, {0.f, 0.f, -0.5f});
   cam.tanHalfFovY = 0.36f;
-  auto rays = cameraRays(toGpuCamera(cam, size, size), size, size, 0.0f, 100.0f);
+  std::vector<GpuRay> rays;
+  {
+    CameraRayPipelines cameraPipelines = createCameraRayPipelines(*ctx);
+    Buffer rayBuf = createBuffer(*ctx, VkDeviceSize(size) * size * sizeof(GpuRay));
+    submitAndWait(*ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, cameraPipelines, cameraFromFly(cam, int(size), int(size)), rayBuf, 0.0f, 100.0f); });
+    rays = downloadVector<GpuRay>(*ctx, rayBuf, size_t(size) * size);
+  }
   GaussianTracer tracer = createGaussianTracer(*ctx, K);
   bool allMeet = true;
   for (int n : counts) {

@@ -5,13 +5,13 @@
 #include <string>
 #include <vector>
 
-#include "engine/camera_rays.h"
 #include "engine/fly_camera.h"
 #include "engine/error.h"
 #include "engine/gaussian_trace.h"
 #include "engine/io/image_io.h"
 #include "engine/io/ply_gaussians.h"
 #include "engine/vk_context.h"
+#include "engine/water_removal.h"
 #include "trainer/cli.h"
 
 namespace refrax {
@@ -56,7 +56,8 @@ int runRenderGaussians(const cli::Args& args) {
   TraceOptions opt;
   for (int c = 0; c < 3; c++) opt.background[c] = bg[c];
   opt.shDegree = uint32_t(degree);
-  auto results = traceGaussians(*ctx, tracer, proxies, dev, cameraRays(toGpuCamera(cam, uint32_t(width), uint32_t(height)), uint32_t(width), uint32_t(height)), opt);
+  CameraRayPipelines cameraPipelines = createCameraRayPipelines(*ctx);
+  auto results = renderWithoutWater(*ctx, tracer, cameraPipelines, proxies, dev, cameraFromFly(cam, int(width), int(height)), opt);
   Image img;
   img.width = int(width);
   img.height = int(height);

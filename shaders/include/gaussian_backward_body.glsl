@@ -91,7 +91,8 @@ void main() {
       uint id = kid[k];
       float rawAlpha = ka[k];
       float alpha = clampedAlpha(rawAlpha);
-      vec3 cRaw = shColorRaw(id, coefficients);
+      loadShCoefficients(id, coefficients);
+      vec3 cRaw = shColorRaw();
       vec3 c = max(cRaw, vec3(0.0));
       float w = T * alpha;
       Cprefix += w * c;
@@ -104,7 +105,7 @@ void main() {
       for (uint kk = 0u; kk < kShCoefficients; kk++) {  // constant bound: unrolls, shBasis folds
         if (kk >= coefficients) break;
         float Y = shY[kk];
-        vec3 coef = vec3(params[b + kGaussSH + 3u * kk], params[b + kGaussSH + 3u * kk + 1u], params[b + kGaussSH + 3u * kk + 2u]);
+        vec3 coef = shC[kk];
         addGrad(b + kGaussSH + 3u * kk, dColor.r * Y);
         addGrad(b + kGaussSH + 3u * kk + 1u, dColor.g * Y);
         addGrad(b + kGaussSH + 3u * kk + 2u, dColor.b * Y);

@@ -66,14 +66,18 @@ void evaluateShBasis(vec3 dn, uint coefficients) {
   for (uint k = 0u; k < kShCoefficients; k++) shY[k] = k < coefficients ? shBasis(k, dn) : 0.0;  // unrolls, each folds
 }
 
-// SH colour of Gaussian `id` with the ray's basis shY (+0.5, before the clamp at 0).
-vec3 shColorRaw(uint id, uint coefficients) {
+// SH coefficients of one Gaussian, loaded once per hit (the backward reuses them).
+vec3 shC[16];
+void loadShCoefficients(uint id, uint coefficients) {
   uint base = id * kGaussFloats + kGaussSH;
+  for (uint k = 0u; k < kShCoefficients; k++)
+    shC[k] = k < coefficients ? vec3(params[base + 3u * k], params[base + 3u * k + 1u], params[base + 3u * k + 2u]) : vec3(0.0);
+}
+
+// SH colour of the loaded Gaussian with the ray's basis shY (+0.5, before the clamp at 0).
+vec3 shColorRaw() {
   vec3 c = vec3(0.5);
-  for (uint k = 0u; k < kShCoefficients; k++) {
-    if (k >= coefficients) break;
-    c += shY[k] * vec3(params[base + 3u * k], params[base + 3u * k + 1u], params[base + 3u * k + 2u]);
-  }
+  for (uint k = 0u; k < kShCoefficients; k++) c += shY[k] * shC[k];
   return c;
 }
 #endif
