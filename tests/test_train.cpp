@@ -35,24 +35,45 @@ constexpr double kRefractionPsnrBar = 15.0;
 constexpr double kResumePsnrTolerance = 0.05;
 constexpr double kResumeParameterRms = 5e-3;
 
-TEST_CASE("train: refraction on a tiny NeRFrac-like preset beats straight rays by 3 dB and halves the flat surface error") {
+// The refraction and straight-ray models trained once per test process on the same data.
+struct TinyComparison {
   TrainTempDir dir;
-  std::string data = test::tinyDataset("nerfrac-primary-sine");
-  nlohmann::json refr = test::trainAndReadMetrics(data, dir / "refraction", kTinyOptions);
-  nlohmann::json plain = test::trainAndReadMetrics(data, dir / "plain", std::string(kTinyOptions) + " --no-refraction");
-  MESSAGE("refraction psnr " << refr["psnr"] << " ssim " << refr["ssim"] << " surface rmse " << refr["surface_rmse"] << " (flat "
-                             << refr["initial_flat_surface_rmse"] << "); no-refraction psnr " << plain["psnr"]);
-  // Every output of a run is there.
+  nlohmann::json refraction, plain;
+};
+const TinyComparison& tinyComparison() {
+  static TinyComparison c = [] {
+    TinyComparison t;
+    std::string data = test::tinyDataset("nerfrac-primary-sine");
+    t.refraction = test::trainAndReadMetrics(data, t.dir / "refraction", kTinyOptions);
+    t.plain = test::trainAndReadMetrics(data, t.dir / "plain", std::string(kTinyOptions) + " --no-refraction");
+    MESSAGE("refraction psnr " << t.refraction["psnr"] << " ssim " << t.refraction["ssim"] << " surface rmse "
+                               << t.refraction["surface_rmse"] << " (flat " << t.refraction["initial_flat_surface_rmse"]
+                               << "); no-refraction psnr " << t.plain["psnr"]);
+    return t;
+  }();
+  return c;
+}
+
+TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the measured PSNR") {
+  const TinyComparison& c = tinyComparison();
   for (const char* f : {"config.json", "metrics.json", "point_cloud.ply", "water_height.npy", "height_field.bin", "renders/test_000.png",
                         "renders/test_000_air.png"})
-    CHECK_MESSAGE(fs::exists(fs::path(dir / "refraction") / f), f);
-  CHECK(!fs::exists(fs::path(dir / "plain") / "water_height.npy"));
-  double p = refr["psnr"].get<double>(), q = plain["psnr"].get<double>();
-  CHECK(p >= kRefractionPsnrBar);
-  CHECK(p - q >= 3.0);
-  CHECK(refr["surface_rmse"].get<double>() * 2.0 <= refr["initial_flat_surface_rmse"].get<double>());
-  CHECK(refr["gaussians"].get<uint64_t>() == 2000);
-  CHECK(refr.contains("water_removal_psnr"));
+    CHECK_MESSAGE(fs::exists(fs::path(c.dir / "refraction") / f), f);
+  CHECK(!fs::exists(fs::path(c.dir / "plain") / "water_height.npy"));
+  CHECK(c.refraction["psnr"].get<double>() >= kRefractionPsnrBar);
+  CHECK(c.refraction["gaussians"].get<uint64_t>() == 2000);
+  CHECK(c.refraction.contains("water_removal_psnr"));
+  CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
+  NpyArray heights = readNpy(c.dir / "refraction/water_height.npy");
+  CHECK(heights.shape == std::vector<size_t>{65, 65});
+}
+
+// The paper's claim at CI size: refraction beats straight rays by 3 dB and recovers the
+// surface to half the flat plane's error. Not met at this size (see the report): kept as is.
+TEST_CASE("train: refraction beats straight rays by 3 dB and halves the flat surface error on a tiny NeRFrac-like run") {
+  const TinyComparison& c = tinyComparison();
+  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 3.0);
+  CHECK(c.refraction["surface_rmse"].get<double>() * 2.0 <= c.refraction["initial_flat_surface_rmse"].get<double>());
 }
 
 GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterrupted run ends") {

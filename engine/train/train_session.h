@@ -8,6 +8,7 @@
 //   -> surface backward -> dL/d(height parameters)
 //   -> Adam: the Gaussian table's six groups (engine/train/gaussian_adam.h) and the height
 //      MLP (device Adam, engine/adam.h), or the one height of --flat-water.
+// With REFRAX_TRAIN_TIMING set, each step prints its stages' wall times to stderr.
 // The session is not movable (height sources refer to its members): it lives in a unique_ptr.
 #include <cstdint>
 #include <functional>
