@@ -2,8 +2,8 @@
 #include "engine/height_field.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
-#include <set>
 
 #include "engine/error.h"
 #include "engine/height_field_kernels.h"
@@ -85,7 +85,6 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
   requireBytes(dLossdWeights, hf.parameterCount * 4, "dLossdWeights", call);
   const HeightBackpropKernel backprop = heightBackpropKernel(hf);
   const bool useTiles = heightGradTilesAvailable(hf);
-  const ComputePipeline& grad = useTiles ? *backprop.pipeline : heightWeightGradPipeline(hf);
   HeightPush push = basePush(hf);
   cmdBarrier(cb);  // earlier recorded work (a layered forward) may still use the scratch
   const uint32_t maxGroups = hf.ctx->properties.limits.maxComputeWorkGroupCount[0];
@@ -100,6 +99,7 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
       cmdHeightGradTiles(cb, hf, push.count, dLossdWeights);
       continue;
     }
+    const ComputePipeline& grad = heightWeightGradPipeline(hf);
     uint32_t slices = groupsFor(push.count, kGradientSlice);
     uint64_t perDispatch = uint64_t(maxGroups) * 64;
     for (uint64_t base = 0; base < hf.parameterCount; base += perDispatch) {
@@ -112,19 +112,20 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
 
 double warmUpHeightField(HeightField& hf) {
   if (!hf.ctx || !hf.pipelines) fail("warmUpHeightField: the height field was not created");
-  auto& cache = hf.pipelines->byName;
-  std::set<std::string> before;
-  for (auto& [name, p] : cache) before.insert(name);
-  prepareHeightForward(hf);
-  heightBackpropKernel(hf);
-  if (heightGradTilesAvailable(hf))
-    prepareHeightGradTiles(hf);
-  else
-    heightWeightGradPipeline(hf);
-  double ms = 0;
-  for (auto& [name, p] : cache)
-    if (!before.count(name)) ms += p.createMs;
-  return ms;
+  // lavapipe compiles a pipeline at its first dispatch, not at creation: dispatch both
+  // directions once on one point (into throw-away buffers).
+  auto t0 = std::chrono::steady_clock::now();
+  Context& ctx = *hf.ctx;
+  const HeightFieldConfig& c = hf.config;
+  std::vector<float> point = {0.5f * (c.domainMin[0] + c.domainMax[0]), 0.5f * (c.domainMin[1] + c.domainMax[1])};
+  Buffer pb = createBufferFrom(ctx, point), hb = createBuffer(ctx, 4), gb = createBuffer(ctx, hf.parameterCount * 4);
+  fillBuffer(ctx, gb, 0);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdEvaluateHeights(cb, hf, pb, 1, hb);
+    cmdBarrier(cb);
+    cmdAccumulateHeightGradients(cb, hf, pb, hb, 1, gb);
+  });
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 std::vector<float> downloadWeights(Context& ctx, const HeightField& hf) {

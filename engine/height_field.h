@@ -75,8 +75,8 @@ void cmdEvaluateHeights(VkCommandBuffer cb, const HeightField& hf, const Buffer&
 // dLossdWeights[j] += sum_i dLossdHeight[i] * dH(points[i])/dweight_j   (accumulates, never overwrites)
 void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, const Buffer& dLossdHeight,
                                   uint32_t count, const Buffer& dLossdWeights);
-// Creates every pipeline the current kernel choice needs now, so the JIT cost is paid here;
-// returns the milliseconds spent creating pipelines.
+// Creates and runs once every pipeline the current kernel choice needs, so that the compile
+// cost (lavapipe JIT-compiles at the first dispatch) is paid here; returns the milliseconds.
 double warmUpHeightField(HeightField& hf);
 
 std::vector<float> downloadWeights(Context& ctx, const HeightField& hf);

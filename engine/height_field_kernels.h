@@ -32,11 +32,14 @@ struct HeightFieldPipelines {
 
 // Name of the forward kernel the field uses with its current settings (creates nothing).
 std::string heightForwardKernelName(const HeightField& hf);
-// Creates (if needed) the forward kernel's pipelines; returns the milliseconds spent.
-double prepareHeightForward(const HeightField& hf);
 // Records the forward for points [0, count) (push.first/count are set here).
 void cmdHeightForward(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
                       const Buffer& heights);
+
+// The loop-based forward (any shape).
+const ComputePipeline& heightGenericForwardPipeline(const HeightField& hf);
+void cmdHeightForwardGeneric(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
+                             const Buffer& heights);
 
 // Backward pass 1: the generated fused kernel where there is one, else the loop-based one.
 struct HeightBackpropKernel {
@@ -50,7 +53,6 @@ const ComputePipeline& heightWeightGradPipeline(const HeightField& hf);
 // Backward pass 2 by generated weight-gradient tiles (when the build has them and the device
 // allows): one dispatch per layer over the chunk's `count` points in the scratch.
 bool heightGradTilesAvailable(const HeightField& hf);
-void prepareHeightGradTiles(const HeightField& hf);
 void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, const Buffer& dLossdWeights);
 
 // The pipeline `key` of the field, created by `make` on first use.

@@ -13,10 +13,6 @@
 
 namespace refrax {
 
-void cmdHeightForwardGeneric(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
-                             const Buffer& heights);
-const ComputePipeline& heightGenericForwardPipeline(const HeightField& hf);
-
 namespace {
 
 enum class ForwardForm { Generic, Fused, Layered };
@@ -116,21 +112,6 @@ std::string heightForwardKernelName(const HeightField& hf) {
     case ForwardForm::Layered: return "height_layer_*_w" + std::to_string(c.width);
     default: return "height_forward_generic";
   }
-}
-
-double prepareHeightForward(const HeightField& hf) {
-  auto& cache = hf.pipelines->byName;
-  size_t before = cache.size();
-  std::vector<const ComputePipeline*> made;
-  switch (forwardForm(hf)) {
-    case ForwardForm::Fused: made = {&fusedPipeline(hf)}; break;
-    case ForwardForm::Layered: made = {&firstPipeline(hf), &hiddenPipeline(hf), &lastPipeline(hf)}; break;
-    default: made = {&heightGenericForwardPipeline(hf)};
-  }
-  if (cache.size() == before) return 0.0;
-  double ms = 0;
-  for (auto* p : made) ms += p->createMs;
-  return ms;
 }
 
 void cmdHeightForward(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,

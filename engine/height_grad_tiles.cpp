@@ -40,10 +40,6 @@ bool heightGradTilesAvailable(const HeightField& hf) {
   return true;
 }
 
-void prepareHeightGradTiles(const HeightField& hf) {
-  for (uint32_t mb : blocksUsed(hf)) tilePipeline(hf, mb);
-}
-
 void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, const Buffer& dLossdWeights) {
   const HeightFieldConfig& c = hf.config;
   const uint64_t C = hf.backwardChunk, W = c.width, I = hf.inputCount;

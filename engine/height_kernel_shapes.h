@@ -29,7 +29,7 @@ constexpr uint32_t kHeightFusedMaxWidth = 64;
 // Weight-gradient tiles (backward pass 2): points per workgroup and lanes (inputs k) per
 // workgroup; kernels exist per outputs-per-block mb (kHeightGradBlocks), chosen as the largest
 // listed mb that divides the layer's output count.
-constexpr uint32_t kHeightGradTile = 128;
+constexpr uint32_t kHeightGradTile = 32;
 constexpr uint32_t kHeightGradLanes = 32;
 constexpr uint32_t kHeightGradBlocks[] = {32, 16, 1};
 inline uint32_t heightGradBlock(uint32_t outputs) {

@@ -19,7 +19,7 @@ struct SurfacePush {
   float origin[2];
   float spacing[2];
   int32_t cellsX, cellsY, levels;
-  uint32_t hashMask;
+  uint32_t latticeStride;
   uint32_t count;
   int32_t level;
   float eta;
@@ -38,13 +38,6 @@ constexpr uint32_t kCounterCount = 8;
 // corners with their 6 neighbours each.
 uint32_t insertsPerRay(uint32_t levels) { return levels == 0 ? 0 : 3 * levels + 21; }
 
-uint32_t nextPow2(uint64_t v) {
-  uint64_t p = 64;
-  while (p < v) p <<= 1;
-  if (p > (1ull << 31)) fail("water surface: the lattice point table would exceed 2^31 entries; trace fewer rays per call");
-  return uint32_t(p);
-}
-
 SurfacePush basePush(const WaterSurface& ws) {
   SurfacePush p{};
   p.origin[0] = ws.config.domain.x0;
@@ -57,6 +50,7 @@ SurfacePush basePush(const WaterSurface& ws) {
   p.eta = 1.0f / ws.config.ior;
   p.options = (ws.config.faceNormals ? kOptionFaceNormals : 0u) | (ws.config.keepHitNormals ? kOptionHitNormals : 0u);
   p.pointCapacity = ws.pointCapacity;
+  p.latticeStride = ws.latticeStride;
   return p;
 }
 
@@ -102,12 +96,14 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   ws.blas = createTriangleBlas(ctx, ws.vertices, mesh.vertexCount(), 12, ws.indices, mesh.triangleCount(), {true});
   ws.top = createTopLevel(ctx, {makeInstance(ws.blas, 0)}, {true});
 
-  uint64_t lattice = uint64_t((ws.cellsX << K) + 3) * uint64_t((ws.cellsY << K) + 3);
-  uint64_t inserts = std::min<uint64_t>(uint64_t(config.maxRays) * insertsPerRay(K), lattice);
+  ws.latticeStride = (ws.cellsX << K) + 3;
+  ws.latticePoints = uint64_t(ws.latticeStride) * uint64_t((ws.cellsY << K) + 3);
+  if (K > 0 && ws.latticePoints > (uint64_t(1) << 27))
+    fail("water surface: the finest lattice ((cells << levels) + 3)^2 = " + std::to_string(ws.latticePoints) +
+         " points exceeds 2^27; use fewer cells or levels");
+  uint64_t inserts = std::min<uint64_t>(uint64_t(config.maxRays) * insertsPerRay(K), ws.latticePoints);
   ws.pointCapacity = uint32_t(std::max<uint64_t>(inserts, 1));
-  ws.hashCapacity = nextPow2(2 * inserts);
-  ws.hashKeys = createBuffer(ctx, VkDeviceSize(ws.hashCapacity) * 4);
-  ws.hashValues = createBuffer(ctx, VkDeviceSize(ws.hashCapacity) * 4);
+  ws.latticeIndex = createBuffer(ctx, K > 0 ? ws.latticePoints * 4 : 4);
   ws.points = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 8);
   ws.pointHeights = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 4);
   ws.pointGrad = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 4);
@@ -122,11 +118,11 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   p.gridPoints = createComputePipeline(ctx, "surface_grid_points", {B}, push);
   p.gridVertices = createComputePipeline(ctx, "surface_grid_vertices", {B, B}, push);
   p.globalTrace = createComputePipeline(ctx, "surface_global_trace", {kAccelStruct, B, B, B, B}, push);
-  p.requestPoints = createComputePipeline(ctx, "surface_request_points", {B, B, B, B, B}, push);
-  p.subdivide = createComputePipeline(ctx, "surface_subdivide", {B, B, B, B, B, B, B}, push);
-  p.refract = createComputePipeline(ctx, "surface_refract", {B, B, B, B, B, B, B, B, B}, push);
+  p.requestPoints = createComputePipeline(ctx, "surface_request_points", {B, B, B, B}, push);
+  p.subdivide = createComputePipeline(ctx, "surface_subdivide", {B, B, B, B, B, B}, push);
+  p.refract = createComputePipeline(ctx, "surface_refract", {B, B, B, B, B, B, B, B}, push);
   ws.floatAtomics = ctx.caps.floatAtomicAdd && !forceCasAtomics;
-  p.backward = createComputePipeline(ctx, ws.floatAtomics ? "surface_backward" : "surface_backward_cas", {B, B, B, B, B, B, B, B, B, B}, push);
+  p.backward = createComputePipeline(ctx, ws.floatAtomics ? "surface_backward" : "surface_backward_cas", {B, B, B, B, B, B, B, B, B}, push);
 
   SurfacePush pc = basePush(ws);
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
@@ -168,10 +164,6 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
   const SurfacePipelines& p = ws.pipelines;
   SurfacePush pc = basePush(ws);
   pc.count = count;
-  uint64_t lattice = uint64_t((ws.cellsX << K) + 3) * uint64_t((ws.cellsY << K) + 3);
-  uint32_t hashSize = std::min(ws.hashCapacity, nextPow2(2 * std::min<uint64_t>(uint64_t(count) * insertsPerRay(K), lattice)));
-  pc.hashMask = hashSize - 1;
-  ws.lastHashMask = pc.hashMask;
   const uint32_t groups = groupsFor(count, 64);
 
   std::unique_ptr<GpuTimer> timer;
@@ -195,7 +187,7 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
     SurfacePush q = pc;
     q.level = level;
     q.mode = mode;
-    cmdDispatch(cb, p.requestPoints, {bind(records), bind(ws.hashKeys), bind(ws.hashValues), bind(ws.points), bind(ws.counters)}, &q,
+    cmdDispatch(cb, p.requestPoints, {bind(records), bind(ws.latticeIndex), bind(ws.points), bind(ws.counters)}, &q,
                 groups);
     cmdBarrier(cb);
   };
@@ -227,7 +219,7 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
   // Global trace, then the midpoints level 1 needs.
   submit([&](VkCommandBuffer cb) {
     vkCmdFillBuffer(cb, ws.counters.buffer, 0, VK_WHOLE_SIZE, 0);
-    vkCmdFillBuffer(cb, ws.hashKeys.buffer, 0, VkDeviceSize(hashSize) * 4, 0xFFFFFFFFu);
+    vkCmdFillBuffer(cb, ws.latticeIndex.buffer, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
     cmdBarrier(cb);
     stamp(cb, "clear");
     cmdDispatch(cb, p.globalTrace, {bind(ws.top.tlas), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters)}, &pc, groups);
@@ -248,7 +240,7 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
       SurfacePush q = pc;
       q.level = int32_t(k);
       cmdDispatch(cb, p.subdivide,
-                  {bind(rays), bind(records), bind(ws.gridHeights), bind(ws.hashKeys), bind(ws.hashValues), bind(ws.pointHeights),
+                  {bind(rays), bind(records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights),
                    bind(ws.counters)},
                   &q, groups);
       cmdBarrier(cb);
@@ -268,7 +260,7 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
     evaluateNew(cb, evaluated, queued);
     stamp(cb, "normal heights");
     cmdDispatch(cb, p.refract,
-                {bind(rays), bind(records), bind(ws.gridHeights), bind(ws.hashKeys), bind(ws.hashValues), bind(ws.pointHeights),
+                {bind(rays), bind(records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights),
                  bind(refractedRays), bind(ws.hitNormals), bind(ws.counters)},
                 &pc, groups);
     cmdBarrier(cb);
@@ -285,13 +277,12 @@ void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource
   checkBuffer(rayGrads, VkDeviceSize(count) * sizeof(GpuRayGrad), "ray gradients");
   SurfacePush pc = basePush(ws);
   pc.count = count;
-  pc.hashMask = ws.lastHashMask;
   uint32_t points = ws.lastCounters.points;
   vkCmdFillBuffer(cb, ws.gridGrad.buffer, 0, VK_WHOLE_SIZE, 0);
   vkCmdFillBuffer(cb, ws.pointGrad.buffer, 0, VK_WHOLE_SIZE, 0);
   cmdBarrier(cb);
   cmdDispatch(cb, ws.pipelines.backward,
-              {bind(rays), bind(records), bind(rayGrads), bind(ws.gridHeights), bind(ws.hashKeys), bind(ws.hashValues),
+              {bind(rays), bind(records), bind(rayGrads), bind(ws.gridHeights), bind(ws.latticeIndex),
                bind(ws.pointHeights), bind(ws.gridGrad), bind(ws.pointGrad), bind(ws.counters)},
               &pc, groupsFor(count, 64));
   cmdBarrier(cb);

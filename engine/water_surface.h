@@ -68,17 +68,20 @@ struct WaterSurface {
   AccelStruct blas;
   TopLevel top;
 
-  // Lattice points beyond the coarse grid, found through a hash of their coordinates.
-  Buffer hashKeys, hashValues, points, pointHeights, pointGrad;
+  // Lattice points beyond the coarse grid: latticeIndex (one uint per point of the bordered
+  // finest lattice) gives each requested point its index into points/pointHeights/pointGrad.
+  Buffer latticeIndex, points, pointHeights, pointGrad;
   Buffer evalPoints, evalHeights;  // one level's new points, handed to the height source
   Buffer counters, hitNormals;
-  uint32_t hashCapacity = 0, pointCapacity = 0;
+  uint32_t latticeStride = 0;  // (cellsX << K) + 3
+  uint64_t latticePoints = 0;  // latticeStride * ((cellsY << K) + 3)
+  uint32_t pointCapacity = 0;
 
   SurfacePipelines pipelines;
   bool floatAtomics = false;  // the backward uses float atomicAdd (else a CAS loop)
 
   // State of the last traceSurface, used by cmdBackwardSurface.
-  uint32_t lastRayCount = 0, lastHashMask = 0;
+  uint32_t lastRayCount = 0;
   SurfaceCounters lastCounters;
   bool updated = false;
 };

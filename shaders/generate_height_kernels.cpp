@@ -26,6 +26,9 @@ using refrax::kHeightStageFloats;
 
 const char* kLane[4] = {"x", "y", "z", "w"};
 
+// Output rows staged at once for a layer of nin inputs.
+uint32_t layerRows(uint32_t nin, uint32_t nout) { return std::max(4u, std::min(nout, kHeightStageFloats / nin) / 4 * 4); }
+
 struct Emitter {
   std::ostringstream s;
   bool staged = false;
@@ -89,12 +92,14 @@ struct Emitter {
 
   // A whole layer of `nout` outputs from `in` (scalar or vec4 inputs of nin values), weights
   // at float offset `base` + row * nin, staged in as many chunks as the stage size needs.
+  // firstStaged: the caller has staged the first chunk already (to load the inputs after the
+  // barrier: lavapipe saves every value live across a barrier, per invocation).
   void layer(const std::vector<std::string>& in, bool vec4In, uint32_t nin, uint32_t nout, const std::string& base,
-             const std::string& lastVec4, const std::string& acc, const std::string& out) {
-    uint32_t rows = std::max(4u, std::min(nout, kHeightStageFloats / nin) / 4 * 4);
+             const std::string& lastVec4, const std::string& acc, const std::string& out, bool firstStaged = false) {
+    uint32_t rows = layerRows(nin, nout);
     for (uint32_t j0 = 0; j0 < nout; j0 += rows) {
       uint32_t j1 = std::min(nout, j0 + rows);
-      stage(base + " + " + std::to_string(j0 * nin) + "u", (j1 - j0) * nin, lastVec4);
+      if (j0 > 0 || !firstStaged) stage(base + " + " + std::to_string(j0 * nin) + "u", (j1 - j0) * nin, lastVec4);
       if (vec4In)
         denseVec4(in, j0, j1, acc);
       else
@@ -142,8 +147,9 @@ void emitEncoding(Emitter& e, uint32_t inputs) {
   for (uint32_t k = 0; k < inputs; k++) e.line("float e" + std::to_string(k) + " = heightEncodingFeature(u, " + std::to_string(k) + "u);");
 }
 
-void emitOutput(Emitter& e, uint32_t width, const std::string& in, const std::string& base, const std::string& lastVec4) {
-  e.stage(base, width, lastVec4);
+void emitOutput(Emitter& e, uint32_t width, const std::string& in, const std::string& base, const std::string& lastVec4,
+                bool staged = false) {
+  if (!staged) e.stage(base, width, lastVec4);
   std::string r = "float r = dot(sw4[0], " + in + "0)";
   for (uint32_t q = 1; q < width / 4; q++) r += " + dot(sw4[" + std::to_string(q) + "], " + in + std::to_string(q) + ")";
   e.line(r + ";");
@@ -160,8 +166,9 @@ std::string fused(uint32_t width, uint32_t hidden, uint32_t octaves) {
                 stageVec4s(maxStage),
                 {"readonly buffer Weights { vec4 w4[]; };", "readonly buffer Points { vec2 points[]; };",
                  "writeonly buffer Heights { float heights[]; };"});
+  e.stage("0u", layerRows(inputs, width) * inputs, last);
   emitEncoding(e, inputs);
-  e.layer(names("e", inputs), false, inputs, width, "0u", last, "s0_", "h1_");
+  e.layer(names("e", inputs), false, inputs, width, "0u", last, "s0_", "h1_", true);
   uint64_t off = uint64_t(width) * inputs;
   for (uint32_t l = 1; l < hidden; l++) {
     std::string in = "h" + std::to_string(l) + "_", out = "h" + std::to_string(l + 1) + "_";
@@ -262,9 +269,10 @@ std::string layerFirst(uint32_t width, uint32_t octaves) {
                 stageVec4s(group * inputs),
                 {"readonly buffer Weights { vec4 w4[]; };", "readonly buffer Points { vec2 points[]; };",
                  "writeonly buffer Act { float act[]; };"});
+  e.stage("pc.weightBase + 0u", layerRows(inputs, group) * inputs, "uint(w4.length()) - 1u");
   e.line("uint t = gl_GlobalInvocationID.x;");
   emitEncoding(e, inputs);
-  e.layer(names("e", inputs), false, inputs, group, "pc.weightBase", "uint(w4.length()) - 1u", "s", "h");
+  e.layer(names("e", inputs), false, inputs, group, "pc.weightBase", "uint(w4.length()) - 1u", "s", "h", true);
   for (uint32_t j = 0; j < group; j++)
     e.line("act[pc.outOffset + " + std::to_string(j) + "u * pc.chunk + t] = h" + std::to_string(j / 4) + "." + kLane[j % 4] + ";");
   e.s << "}\n";
@@ -286,8 +294,9 @@ std::string layerHidden(uint32_t width) {
   Emitter e;
   e.s << header("hidden layer, " + std::to_string(group) + " of " + std::to_string(width) + " outputs", stageVec4s(group * width),
                 {"readonly buffer Weights { vec4 w4[]; };", "buffer Act { float act[]; };"});
+  e.stage("pc.weightBase + 0u", layerRows(width, group) * width, "uint(w4.length()) - 1u");
   emitScratchInputs(e, width);
-  e.layer(names("a", width / 4), true, width, group, "pc.weightBase", "uint(w4.length()) - 1u", "s", "h");
+  e.layer(names("a", width / 4), true, width, group, "pc.weightBase", "uint(w4.length()) - 1u", "s", "h", true);
   for (uint32_t j = 0; j < group; j++)
     e.line("act[pc.outOffset + " + std::to_string(j) + "u * pc.chunk + t] = h" + std::to_string(j / 4) + "." + kLane[j % 4] + ";");
   e.s << "}\n";
@@ -299,10 +308,11 @@ std::string layerLast(uint32_t width) {
   e.s << header("output layer, width " + std::to_string(width), stageVec4s(width),
                 {"readonly buffer Weights { vec4 w4[]; };", "readonly buffer Points { vec2 points[]; };",
                  "readonly buffer Act { float act[]; };", "writeonly buffer Heights { float heights[]; };"});
+  e.stage("pc.weightBase", width, "uint(w4.length()) - 1u");
   emitScratchInputs(e, width);
   e.line("uint i = pc.first + min(t, pc.count - 1u);");
   e.line("bool finitePoint = heightPointFinite(points[i]);");
-  emitOutput(e, width, "a", "pc.weightBase", "uint(w4.length()) - 1u");
+  emitOutput(e, width, "a", "pc.weightBase", "uint(w4.length()) - 1u", true);
   e.line("if (t < pc.count) heights[i] = finitePoint ? r + pc.initialHeight : heightNaN();");
   e.s << "}\n";
   return e.s.str();

@@ -13,13 +13,12 @@ layout(local_size_x = 64) in;
 layout(std430, set = 0, binding = 0) readonly buffer Rays { Ray rays[]; };
 layout(std430, set = 0, binding = 1) buffer Records { SurfaceRecord records[]; };
 layout(std430, set = 0, binding = 2) readonly buffer GridHeights { float gridHeights[]; };
-layout(std430, set = 0, binding = 3) readonly buffer HashKeys { uint hashKeys[]; };
-layout(std430, set = 0, binding = 4) readonly buffer HashValues { uint hashValues[]; };
-layout(std430, set = 0, binding = 5) readonly buffer PointHeights { float pointHeights[]; };
-layout(std430, set = 0, binding = 6) writeonly buffer Refracted { Ray refracted[]; };
+layout(std430, set = 0, binding = 3) readonly buffer LatticeIndex { uint latticeIndex[]; };
+layout(std430, set = 0, binding = 4) readonly buffer PointHeights { float pointHeights[]; };
+layout(std430, set = 0, binding = 5) writeonly buffer Refracted { Ray refracted[]; };
 // With kOptionHitNormals: per ray the hit normal and the 3 raw vertex normals (vec4 each).
-layout(std430, set = 0, binding = 7) writeonly buffer HitNormals { vec4 hitNormals[]; };
-layout(std430, set = 0, binding = 8) buffer Counters { uint counters[]; };
+layout(std430, set = 0, binding = 6) writeonly buffer HitNormals { vec4 hitNormals[]; };
+layout(std430, set = 0, binding = 7) buffer Counters { uint counters[]; };
 #define SURFACE_LOOKUP
 #include "surface_lattice.glsl"
 void main() {

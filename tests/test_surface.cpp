@@ -135,7 +135,9 @@ GPU_TEST_CASE("subdivision tracing stays within the interpolation bound of the e
       // exact intersection: first sign change of H(o + t d) - (o + t d).z, then bisection
       dvec3 o = test::vec3Of(rays[i].origin), d = glm::normalize(test::vec3Of(rays[i].dir));
       auto f = [&](double t) { dvec3 q = o + t * d; return H(q.x, q.y) - q.z; };
-      double t0 = 0, step = 1e-3;
+      // (marching from well above the traced hit: the first crossing after max(0, t - 0.1))
+      double t0 = std::max(0.0, double(rec.t) - 0.1), step = 1e-3;
+      REQUIRE(f(t0) < 0);
       while (f(t0 + step) < 0 && t0 < 10) t0 += step;
       double a = t0, b = t0 + step;
       for (int it = 0; it < 60; it++) {

@@ -11,17 +11,16 @@ layout(std430, set = 0, binding = 0) readonly buffer Rays { Ray rays[]; };
 layout(std430, set = 0, binding = 1) readonly buffer Records { SurfaceRecord records[]; };
 layout(std430, set = 0, binding = 2) readonly buffer RayGrads { RayGrad rayGrads[]; };
 layout(std430, set = 0, binding = 3) readonly buffer GridHeights { float gridHeights[]; };
-layout(std430, set = 0, binding = 4) readonly buffer HashKeys { uint hashKeys[]; };
-layout(std430, set = 0, binding = 5) readonly buffer HashValues { uint hashValues[]; };
-layout(std430, set = 0, binding = 6) readonly buffer PointHeights { float pointHeights[]; };
+layout(std430, set = 0, binding = 4) readonly buffer LatticeIndex { uint latticeIndex[]; };
+layout(std430, set = 0, binding = 5) readonly buffer PointHeights { float pointHeights[]; };
 #ifdef REFRAX_FLOAT_ATOMICS
-layout(std430, set = 0, binding = 7) buffer GridGrad { float gridGrad[]; };
-layout(std430, set = 0, binding = 8) buffer PointGrad { float pointGrad[]; };
+layout(std430, set = 0, binding = 6) buffer GridGrad { float gridGrad[]; };
+layout(std430, set = 0, binding = 7) buffer PointGrad { float pointGrad[]; };
 void atomicAddGrid(int k, float g) { atomicAdd(gridGrad[k], g); }
 void atomicAddPoint(uint k, float g) { atomicAdd(pointGrad[k], g); }
 #else
-layout(std430, set = 0, binding = 7) buffer GridGrad { uint gridGrad[]; };
-layout(std430, set = 0, binding = 8) buffer PointGrad { uint pointGrad[]; };
+layout(std430, set = 0, binding = 6) buffer GridGrad { uint gridGrad[]; };
+layout(std430, set = 0, binding = 7) buffer PointGrad { uint pointGrad[]; };
 // float add as a compare-and-swap loop on the bits (devices without float atomics)
 void atomicAddGrid(int k, float g) {
   uint old = gridGrad[k];
@@ -40,7 +39,7 @@ void atomicAddPoint(uint k, float g) {
   }
 }
 #endif
-layout(std430, set = 0, binding = 9) buffer Counters { uint counters[]; };
+layout(std430, set = 0, binding = 8) buffer Counters { uint counters[]; };
 #define SURFACE_LOOKUP
 #include "surface_lattice.glsl"
 
@@ -50,8 +49,8 @@ void addHeightGradient(int X, int Y, float g) {
     atomicAddGrid(coarseIndex(X, Y), g);
     return;
   }
-  uint slot;
-  if (findSlot(latticeKey(X, Y), slot)) atomicAddPoint(hashValues[slot], g);
+  int slot = latticeSlot(X, Y);
+  if (slot >= 0 && latticeIndex[slot] < kClaimed) atomicAddPoint(latticeIndex[slot], g);
 }
 
 void main() {

@@ -1,11 +1,13 @@
 // GLSL side of the surface lattice (see surface_geometry.glsl): push constants, the height
-// of a finest-lattice point, and the hash table that gives every evaluated point an index.
+// of a finest-lattice point, and the table that gives every evaluated point an index.
 // Coarse-lattice points (with a one-vertex border ring for the normals of boundary
-// vertices) live in gridHeights, (cellsX + 3) x (cellsY + 3); every other point is found by
-// its key in an open-addressing hash table (keys, values = index into the point arrays).
+// vertices) live in gridHeights, (cellsX + 3) x (cellsY + 3); every other point requested
+// during a trace gets an index into the point arrays through latticeIndex, one uint per
+// point of the bordered finest lattice (a few MB: direct addressing beats hashing), which
+// dedupes the requests so H is evaluated once per point.
 // The including shader declares the buffers the parts it enables use:
-//   SURFACE_LOOKUP: gridHeights[], hashKeys[], hashValues[], pointHeights[]
-//   SURFACE_INSERT: hashKeys[] (writable), hashValues[], points[] (vec2), counters[]
+//   SURFACE_LOOKUP: gridHeights[], latticeIndex[], pointHeights[]
+//   SURFACE_INSERT: latticeIndex[] (writable), points[] (vec2), counters[]
 #ifndef REFRAX_SURFACE_LATTICE_GLSL
 #define REFRAX_SURFACE_LATTICE_GLSL
 
@@ -15,7 +17,7 @@ layout(push_constant) uniform Push {
   int cellsX;
   int cellsY;
   int levels;    // K
-  uint hashMask;
+  uint latticeStride;  // (cellsX << levels) + 3: row length of latticeIndex
   uint count;    // rays
   int level;     // the level a dispatch works on
   float eta;     // n_air / n_water
@@ -28,7 +30,8 @@ layout(push_constant) uniform Push {
 
 const uint kOptionFaceNormals = 1u;
 const uint kOptionHitNormals = 2u;
-const uint kEmptyKey = 0xFFFFFFFFu;
+const uint kEmptyKey = 0xFFFFFFFFu;  // latticeIndex: not requested
+const uint kClaimed = 0xFFFFFFFEu;   // latticeIndex: requested, index being assigned
 const float kPlaneEps = 1e-6;
 
 // counters[]
@@ -52,14 +55,11 @@ int coarseIndex(int X, int Y) {
   if (i < -1 || j < -1 || i > pc.cellsX + 1 || j > pc.cellsY + 1) return -1;
   return (j + 1) * (pc.cellsX + 3) + i + 1;
 }
-uint latticeKey(int X, int Y) { return uint(X + 1) | (uint(Y + 1) << 16); }
-uint hashSlot(uint key) {
-  key ^= key >> 16;
-  key *= 0x7feb352du;
-  key ^= key >> 15;
-  key *= 0x846ca68bu;
-  key ^= key >> 16;
-  return key & pc.hashMask;
+// Slot of finest-lattice point (X, Y) in latticeIndex, or -1 outside the bordered lattice.
+int latticeSlot(int X, int Y) {
+  int nx = (pc.cellsX << pc.levels) + 1, ny = (pc.cellsY << pc.levels) + 1;
+  if (X < -1 || Y < -1 || X > nx || Y > ny) return -1;
+  return (Y + 1) * int(pc.latticeStride) + X + 1;
 }
 // A ray's origin and unit direction with tmin/tmax rescaled to it; false for NaN/inf or
 // zero-length input.
@@ -86,16 +86,6 @@ void finestCorner(int i, int j, int side, int corner, int level, out int X, out 
 }
 
 #ifdef SURFACE_LOOKUP
-bool findSlot(uint key, out uint slot) {
-  slot = hashSlot(key);
-  for (uint probe = 0u; probe <= pc.hashMask; probe++) {
-    uint k = hashKeys[slot];
-    if (k == key) return true;
-    if (k == kEmptyKey) return false;
-    slot = (slot + 1u) & pc.hashMask;
-  }
-  return false;
-}
 // Height at a finest-lattice point; false when it was never evaluated.
 bool heightAt(int X, int Y, out float z) {
   z = 0.0;
@@ -105,9 +95,11 @@ bool heightAt(int X, int Y, out float z) {
     z = gridHeights[c];
     return true;
   }
-  uint slot;
-  if (!findSlot(latticeKey(X, Y), slot)) return false;
-  z = pointHeights[hashValues[slot]];
+  int slot = latticeSlot(X, Y);
+  if (slot < 0) return false;
+  uint index = latticeIndex[slot];
+  if (index >= kClaimed) return false;
+  z = pointHeights[index];
   return true;
 }
 vec3 latticeVertex(int X, int Y, inout bool ok) {
@@ -133,19 +125,13 @@ vec3 vertexNormalAt(int X, int Y, inout bool ok) {
 // their heights already).
 void requestPoint(int X, int Y) {
   if (isCoarsePoint(X, Y)) return;
-  uint key = latticeKey(X, Y);
-  uint slot = hashSlot(key);
-  for (uint probe = 0u; probe <= pc.hashMask; probe++) {
-    uint prev = atomicCompSwap(hashKeys[slot], kEmptyKey, key);
-    if (prev == kEmptyKey) {
-      uint index = atomicAdd(counters[kCountPoints], 1u);
-      hashValues[slot] = index;
-      if (index < pc.pointCapacity) points[index] = latticePoint(X, Y);
-      return;
-    }
-    if (prev == key) return;
-    slot = (slot + 1u) & pc.hashMask;
-  }
+  int slot = latticeSlot(X, Y);
+  if (slot < 0) return;
+  if (latticeIndex[slot] != kEmptyKey) return;  // cheap early out; the swap decides
+  if (atomicCompSwap(latticeIndex[slot], kEmptyKey, kClaimed) != kEmptyKey) return;
+  uint index = atomicAdd(counters[kCountPoints], 1u);
+  latticeIndex[slot] = index;  // read only by later dispatches
+  if (index < pc.pointCapacity) points[index] = latticePoint(X, Y);
 }
 #endif
 
