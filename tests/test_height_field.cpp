@@ -221,7 +221,7 @@ GPU_TEST_CASE("height field backward matches finite differences and the analytic
   }
 }
 
-GPU_TEST_CASE("height field save/load round-trips bitwise; bad files are refused") {
+GPU_TEST_CASE("height field save/load round-trips bitwise, bad files are refused") {
   HeightField hf = createHeightField(ctx, randomConfig(rng, 8, 2, 3), rng());
   std::string path = "height_field_test_" + std::to_string(rng()) + ".rfxh";
   saveHeightField(path, ctx, hf);
