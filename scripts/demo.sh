@@ -12,11 +12,12 @@ cmake --build build -j"$(nproc)"
 
 OUT="${REFRAX_DEMO_DIR:-demo-out}"
 STEPS="${REFRAX_DEMO_STEPS:-300}"
-GAUSSIANS="${REFRAX_DEMO_GAUSSIANS:-3000}"
+GAUSSIANS="${REFRAX_DEMO_GAUSSIANS:-2000}"
+PATCH="${REFRAX_DEMO_PATCH:-32}"
 rm -rf "$OUT"
 mkdir -p "$OUT"
 ./build/refrax synth nerfrac-primary-sine --size tiny -o "$OUT/data"
-COMMON=(--steps "$STEPS" --gaussians "$GAUSSIANS" --progress-every 50 --checkpoint-every 100)
+COMMON=(--steps "$STEPS" --gaussians "$GAUSSIANS" --patch "$PATCH" --progress-every 50 --checkpoint-every 100)
 for model in refraction flat-water no-refraction; do
   flag=(); [ "$model" = refraction ] || flag=(--"$model")
   # stdout of train is its one-line summary (progress goes to stderr)
