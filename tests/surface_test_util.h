@@ -44,8 +44,10 @@ inline void updateSurface(Context& ctx, WaterSurface& ws, const HeightSource& hs
 }
 
 // Rays from above towards the domain [-1, 1]^2 (most hit it).
-inline std::vector<GpuRay> raysFromAbove(std::mt19937& rng, size_t count, float spread = 1.0f) {
-  return ref::randomRays(rng, count, {{-1.5f, -1.5f, 1.0f}, {1.5f, 1.5f, 2.0f}, {-spread, -spread, -0.1f}, {spread, spread, 0.1f}});
+// Origins over [-originSpread, originSpread]^2 at z 1..2, aimed at [-spread, spread]^2 near z 0.
+inline std::vector<GpuRay> raysFromAbove(std::mt19937& rng, size_t count, float spread = 1.0f, float originSpread = 1.5f) {
+  float o = originSpread;
+  return ref::randomRays(rng, count, {{-o, -o, 1.0f}, {o, o, 2.0f}, {-spread, -spread, -0.1f}, {spread, spread, 0.1f}});
 }
 
 inline glm::dvec3 vec3Of(const float* v) { return {v[0], v[1], v[2]}; }

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# Interop check with the field's tools: Refrax's 3DGS PLY and water-surface glTF files must be
+# read by others as we mean them.
+#   1. Khronos gltf-validator (npm package, JS API): 0 errors on water_surface.gltf and .glb.
+#   2. PlayCanvas splat-transform: `--stats json` on gaussians.ply reports our Gaussian count
+#      and the activated values we wrote (positions, exp scales, sigmoid opacity, DC colour,
+#      quaternions as written) per column: min, max and mean within 1e-4 relative (it prints
+#      6 digits; its mean is the activation of the raw column's mean).
+# Both tools are installed at pinned versions into <build>/npm (ignored by git) on first use.
+# Exits non-zero on any mismatch, and when node, npm or the refrax binary is missing.
+#
+# Usage: scripts/interop-check.sh [build-dir]      (default: build; needs `refrax` built there)
+set -euo pipefail
+
+GLTF_VALIDATOR_VERSION=2.0.0-dev.3.10
+SPLAT_TRANSFORM_VERSION=3.7.0
+
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+BUILD=$(cd "${1:-$ROOT/build}" && pwd)
+REFRAX=$BUILD/refrax
+NPM_DIR=$BUILD/npm
+
+die() { echo "interop-check: FAILED: $*" >&2; exit 1; }
+
+command -v node >/dev/null 2>&1 || die "node is not installed (node >= 20 with npm is needed; bookworm's own nodejs is 18)"
+command -v npm >/dev/null 2>&1 || die "npm is not installed (node >= 20 and npm are needed)"
+command -v python3 >/dev/null 2>&1 || die "python3 is not installed"
+[ -x "$REFRAX" ] || die "no refrax binary at $REFRAX (build it first: cmake --build $BUILD -j2)"
+
+installed_version() {  # the version of an installed package, or nothing
+  node -e "try { console.log(require('$NPM_DIR/node_modules/$1/package.json').version) } catch (e) {}"
+}
+if [ "$(installed_version gltf-validator)" != "$GLTF_VALIDATOR_VERSION" ] ||
+   [ "$(installed_version @playcanvas/splat-transform)" != "$SPLAT_TRANSFORM_VERSION" ]; then
+  echo "interop-check: installing gltf-validator@$GLTF_VALIDATOR_VERSION and @playcanvas/splat-transform@$SPLAT_TRANSFORM_VERSION into $NPM_DIR"
+  mkdir -p "$NPM_DIR"
+  npm install --prefix "$NPM_DIR" --no-save --no-package-lock --ignore-scripts --no-audit --no-fund \
+    "gltf-validator@$GLTF_VALIDATOR_VERSION" "@playcanvas/splat-transform@$SPLAT_TRANSFORM_VERSION" >&2 ||
+    die "npm install failed (is the package registry reachable?)"
+fi
+[ "$(installed_version gltf-validator)" = "$GLTF_VALIDATOR_VERSION" ] || die "gltf-validator $GLTF_VALIDATOR_VERSION is not installed in $NPM_DIR"
+SPLAT_TRANSFORM=$NPM_DIR/node_modules/.bin/splat-transform
+[ -x "$SPLAT_TRANSFORM" ] || die "splat-transform is not installed in $NPM_DIR"
+
+WORK=$(mktemp -d /tmp/refrax-interop.XXXXXX)
+trap 'rm -rf "$WORK"' EXIT
+"$REFRAX" interop-samples --output "$WORK" --count 5000 --seed 7 || die "refrax interop-samples failed"
+
+# 1. glTF validator: every file must give 0 errors (warnings and infos are printed).
+for f in "$WORK/water_surface.gltf" "$WORK/water_surface.glb"; do
+  node - "$NPM_DIR/node_modules/gltf-validator" "$f" <<'EOF' || die "gltf-validator reported errors for $(basename "$f")"
+const [validatorPath, file] = process.argv.slice(2);
+const validator = require(validatorPath);
+const fs = require('fs');
+const path = require('path');
+validator.validateBytes(new Uint8Array(fs.readFileSync(file)), {
+  uri: path.basename(file),
+  externalResourceFunction: (uri) => Promise.resolve(new Uint8Array(fs.readFileSync(path.resolve(path.dirname(file), decodeURIComponent(uri))))),
+}).then((report) => {
+  const i = report.issues;
+  console.log(`gltf-validator ${report.validatorVersion}: ${path.basename(file)}: ${i.numErrors} errors, ${i.numWarnings} warnings, ${i.numInfos} infos, ${i.numHints} hints`);
+  for (const m of i.messages) console.log(`  [${['error', 'warning', 'info', 'hint'][m.severity]}] ${m.code} ${m.pointer || ''}: ${m.message}`);
+  process.exit(i.numErrors === 0 && report.info && report.info.totalTriangleCount > 0 ? 0 : 1);
+}, (error) => {
+  console.error(`gltf-validator could not read ${file}: ${error}`);
+  process.exit(1);
+});
+EOF
+done
+
+# 2. splat-transform: count and activated column statistics against what refrax wrote.
+"$SPLAT_TRANSFORM" -q "$WORK/gaussians.ply" --stats json null > "$WORK/stats.json" || die "splat-transform could not read gaussians.ply"
+python3 - "$WORK/stats.json" "$WORK/gaussians_expected.json" "$("$SPLAT_TRANSFORM" --version 2>&1 | head -n 1)" <<'EOF' || die "splat-transform disagrees with what refrax wrote"
+import json, sys
+text = open(sys.argv[1]).read()
+stats = json.loads(text[text.index('{'):])
+expected = json.load(open(sys.argv[2]))
+problems = []
+if stats.get("numGaussians") != expected["count"]:
+    problems.append(f"count: splat-transform {stats.get('numGaussians')}, refrax {expected['count']}")
+lod = stats["stats"][0]
+columns = lod["columns"]
+checked = 0
+for name, want in expected["columns"].items():
+    if name not in columns:
+        problems.append(f"column {name} missing from splat-transform's statistics")
+        continue
+    k = columns.index(name)
+    for what in ("min", "max", "mean"):
+        got = lod["data"][what][k]
+        if abs(got - want[what]) > 1e-4 * max(1.0, abs(want[what])):
+            problems.append(f"{name} {what}: splat-transform {got}, refrax {want[what]:.6g}")
+        checked += 1
+print(f"{sys.argv[3]}: {stats.get('numGaussians')} Gaussians, {checked} activated statistics compared, {len(problems)} mismatches")
+for p in problems:
+    print("  " + p)
+sys.exit(1 if problems else 0)
+EOF
+echo "interop-check: passed"
