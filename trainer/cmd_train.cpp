@@ -60,6 +60,10 @@ TrainConfig configFromArgs(const cli::Args& a) {
   scheduleOption(a, "densify-every", c.schedule.densifyInterval);
   scheduleOption(a, "densify-until", c.schedule.densifyUntil);
   scheduleOption(a, "lr-steps", c.schedule.lrSteps);
+  scheduleOption(a, "prune-every", c.schedule.pruneInterval);
+  scheduleOption(a, "prune-large-from", c.schedule.pruneLargeFrom);
+  c.densify = !a.has("no-densify");
+  c.densifyGradThreshold = a.getDouble("densify-grad", 3e-4);
   c.progressEvery = int(positiveCount(a, "progress-every", 50, 1, 100000000));
   c.evalEvery = int(positiveCount(a, "eval-every", 0, 0, 100000000));
   c.checkpointEvery = int(positiveCount(a, "checkpoint-every", 500, 0, 100000000));
@@ -137,12 +141,16 @@ std::vector<cli::Option> trainOptions() {
       {"surface-freeze", "N", "surface frozen for the first N steps", "1000 x steps/15000"},
       {"face-normals-until", "N", "flat face normals until step N, then interpolated", "7500 x steps/15000"},
       {"sh-interval", "N", "SH degree +1 every N steps", "1000 x steps/15000"},
-      {"density-reset-every", "N", "density reset to <= 0.01 every N steps (part of densification: only when it runs)", "3000 x steps/15000"},
+      {"density-reset-every", "N", "density reset to <= 0.01 every N steps (part of densification: only when it runs)", "max(1000, 3000 x steps/15000)"},
       {"density-reset-until", "N", "no density reset from step N", "12000 x steps/15000"},
-      {"density-decay-every", "N", "density decay every N steps", "50 x steps/15000"},
+      {"density-decay-every", "N", "density decay every N steps", "50"},
       {"densify-from", "N", "densification from step N", "500 x steps/15000"},
-      {"densify-every", "N", "densification every N steps", "300 x steps/15000"},
+      {"densify-every", "N", "densification every N steps", "max(100, 300 x steps/15000)"},
       {"densify-until", "N", "densification until step N", "12000 x steps/15000"},
+      {"no-densify", "", "no clone/split/prune (and no density reset)", ""},
+      {"densify-grad", "X", "clone/split threshold on the mean positional-gradient statistic", "3e-4"},
+      {"prune-every", "N", "prune low-density Gaussians every N steps (densify-from..densify-until)", "100"},
+      {"prune-large-from", "N", "also prune Gaussians larger than 10% of the extent from step N", "3000 x steps/15000"},
       {"lr-steps", "N", "length of the decaying learning-rate schedules", "30000 x steps/15000"},
       {"progress-every", "N", "progress line every N steps (stderr)", "50"},
       {"eval-every", "N", "test-split evaluation every N steps (0: at the end only)", "0"},

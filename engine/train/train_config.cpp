@@ -37,13 +37,19 @@ void resolveSchedule(TrainConfig& c) {
   scaled(k.surfaceFreeze, 1000, s, 0);
   scaled(k.faceNormalsUntil, 7500, s, 0);
   scaled(k.shDegreeInterval, 1000, s, 1);
-  scaled(k.densityResetInterval, 3000, s, 1);
+  // Density events act through per-step learning rates (a Gaussian needs on the order of a
+  // thousand steps to regain density after a reset at lr 0.05), so their intervals do not
+  // shrink below what that recovery needs: decay and prune keep the reference intervals,
+  // resets come at least 1,000 and clone/split at least 100 steps apart.
+  scaled(k.densityResetInterval, 3000, s, 1000);
   scaled(k.densityResetUntil, 12000, s, 0);
-  scaled(k.densityDecayInterval, 50, s, 1);
+  scaled(k.densityDecayInterval, 50, 1.0, 1);
   scaled(k.densifyFrom, 500, s, 0);
-  scaled(k.densifyInterval, 300, s, 1);
+  scaled(k.densifyInterval, 300, s, 100);
   scaled(k.densifyUntil, 12000, s, 0);
   scaled(k.lrSteps, 30000, s, 1);
+  scaled(k.pruneInterval, 100, 1.0, 1);
+  scaled(k.pruneLargeFrom, 3000, s, 0);
 }
 
 void validateTrainConfig(const TrainConfig& c) {
@@ -113,7 +119,10 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
                    {"sh_degree_interval", k.shDegreeInterval},  {"density_reset_interval", k.densityResetInterval},
                    {"density_reset_until", k.densityResetUntil}, {"density_decay_interval", k.densityDecayInterval},
                    {"densify_from", k.densifyFrom},             {"densify_interval", k.densifyInterval},
-                   {"densify_until", k.densifyUntil},           {"lr_steps", k.lrSteps}};
+                   {"densify_until", k.densifyUntil},           {"lr_steps", k.lrSteps},
+                   {"prune_interval", k.pruneInterval},         {"prune_large_from", k.pruneLargeFrom}};
+  j["densify"] = c.densify;
+  j["densify_grad_threshold"] = c.densifyGradThreshold;
   j["density_decay"] = c.densityDecay;
   j["density_reset_value"] = c.densityResetValue;
   j["patch"] = c.patch;
@@ -176,6 +185,10 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     k.densifyInterval = s.at("densify_interval").get<int>();
     k.densifyUntil = s.at("densify_until").get<int>();
     k.lrSteps = s.at("lr_steps").get<int>();
+    k.pruneInterval = s.at("prune_interval").get<int>();
+    k.pruneLargeFrom = s.at("prune_large_from").get<int>();
+    c.densify = j.at("densify").get<bool>();
+    c.densifyGradThreshold = j.at("densify_grad_threshold").get<double>();
     c.densityDecay = j.at("density_decay").get<double>();
     c.densityResetValue = j.at("density_reset_value").get<double>();
     c.patch = j.at("patch").get<uint32_t>();

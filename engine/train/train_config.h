@@ -29,6 +29,8 @@ struct ScheduleSteps {
   int densifyFrom = -1;          // densification call site from ...; reference 500
   int densifyInterval = -1;      // ... every ...; reference 300
   int densifyUntil = -1;         // ... until; reference 15,000 * 0.8
+  int pruneInterval = -1;        // low-density pruning every ...; reference 100 (same from/until)
+  int pruneLargeFrom = -1;       // pruning of over-large Gaussians from ...; reference 3,000
   int lrSteps = -1;              // length of the decaying learning-rate schedules; reference 30,000
 };
 
@@ -63,6 +65,8 @@ struct TrainConfig {
   ScheduleSteps schedule;
   double densityDecay = 0.99;
   double densityResetValue = 0.01;
+  bool densify = true;             // clone/split/prune (engine/densify.h)
+  double densifyGradThreshold = 3e-4;
 
   // Batching: 0 trains on whole images; P > 0 on one random P x P patch of the image per step
   // (SSIM needs an image-shaped batch: a patch keeps its window statistics; about P^2 / (w h)

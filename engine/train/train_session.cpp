@@ -42,7 +42,6 @@ void allocateGaussianBuffers(TrainSession& s) {
   size_t n = std::max<size_t>(1, s.gaussians.count());
   s.grads = createBuffer(*s.ctx, n * kGaussianFloats * 4);
   s.stats = createBuffer(*s.ctx, n * 2 * 4);
-  s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
 }
 
 void createSurface(TrainSession& s) {
@@ -121,6 +120,25 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   s->device = uploadGaussians(ctx, s->gaussians);
   s->proxies = buildGaussianProxies(ctx, s->tracer, s->device, s->gaussians, s->proxyKind, true);
   allocateGaussianBuffers(*s);
+  s->densifyStats.assign(s->gaussians.count() * 2, 0.0f);
+  DensifyConfig& dc = s->densifyConfig;
+  const ScheduleSteps& k = config.schedule;
+  // 3DGS measures "large" against the cameras' spread; cameras close together over a wide
+  // scene (the downward grids of the NeRFrac-like data: spread 0.3, scene 2 x 2) would make
+  // every initial Gaussian "large" and prune it, so the scene box's half-diagonal bounds it too.
+  double halfDiagonal = 0.5 * std::sqrt(std::pow(config.boxMax[0] - config.boxMin[0], 2) + std::pow(config.boxMax[1] - config.boxMin[1], 2) +
+                                        std::pow(config.boxMax[2] - config.boxMin[2], 2));
+  dc.sceneExtent = float(std::max(config.extent, halfDiagonal));
+  dc.densifyFrom = uint32_t(k.densifyFrom);
+  dc.densifyUntil = uint32_t(k.densifyUntil);
+  dc.densifyInterval = uint32_t(std::max(1, k.densifyInterval));
+  dc.gradThreshold = float(config.densifyGradThreshold);
+  dc.pruneFrom = uint32_t(k.densifyFrom);
+  dc.pruneUntil = uint32_t(k.densifyUntil);
+  dc.pruneInterval = uint32_t(std::max(1, k.pruneInterval));
+  dc.pruneLargeFromStep = uint32_t(k.pruneLargeFrom);
+  dc.maxGaussians = config.maxGaussians;
+  validateDensifyConfig(dc);
 
   uint32_t most = 1;
   for (const auto& [name, views] : s->dataset.splits)
@@ -198,7 +216,7 @@ void applyDensitySchedule(TrainSession& s, int t) {
   }
   // As in 3DGS, the reset belongs to the densification strategy (it lets pruning remove
   // Gaussians that do not regain density): without densification it only costs steps.
-  if (s.densify && k.densityResetInterval > 0 && t % k.densityResetInterval == 0 && t < k.densityResetUntil) {
+  if (s.config.densify && k.densityResetInterval > 0 && t % k.densityResetInterval == 0 && t < k.densityResetUntil) {
     float cap = float(logitOf(s.config.densityResetValue));
     for (size_t i = 0; i < n; i++) {
       float& l = s.gaussians.at(i)[f32::kGaussLogitDensity];
@@ -323,12 +341,25 @@ StepResult trainStep(TrainSession& s) {
   gaussianAdamStep(s.gaussianAdam, s.gaussians, grads);
   applyDensitySchedule(s, t);
   bool countChanged = false;
-  const ScheduleSteps& k = c.schedule;
-  if (s.densify && k.densifyInterval > 0 && t >= k.densifyFrom && t < k.densifyUntil && (t - k.densifyFrom) % k.densifyInterval == 0) {
+  bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
+  bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
+  if (cloneSplit || prune) {
     size_t before = s.gaussians.count();
-    s.densify(s);
-    countChanged = s.gaussians.count() != before;
-    s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
+    std::vector<uint32_t> rowMap;
+    s.lastDensify = densify(s.gaussians, s.densifyStats, s.densifyConfig, uint32_t(t), s.rng, rowMap);
+    remapGaussianAdamRows(s.gaussianAdam, rowMap);
+    // The statistics restart after a clone/split (3DGS); a prune alone keeps the survivors'.
+    std::vector<float> kept(rowMap.size() * 2, 0.0f);
+    if (!cloneSplit)
+      for (size_t i = 0; i < rowMap.size(); i++)
+        if (rowMap[i] != kNewRow) {
+          kept[2 * i] = s.densifyStats[2 * rowMap[i]];
+          kept[2 * i + 1] = s.densifyStats[2 * rowMap[i] + 1];
+        }
+    bool identity = rowMap.size() == before;
+    for (size_t i = 0; identity && i < rowMap.size(); i++) identity = rowMap[i] == i;
+    countChanged = !identity;  // new rows: re-upload and rebuild the proxies
+    s.densifyStats = std::move(kept);
   }
   mark("adam");
   syncGaussians(s, countChanged);

@@ -22,6 +22,7 @@
 #include "engine/analytic_height.h"
 #include "engine/camera_rays.h"
 #include "engine/dataset/dataset.h"
+#include "engine/densify.h"
 #include "engine/gaussian_trace.h"
 #include "engine/height_field.h"
 #include "engine/image_loss.h"
@@ -75,12 +76,11 @@ struct TrainSession {
   ImageLossScratch lossScratch;
   Buffer pixels, rays, refracted, records, results, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
 
-  // Densification statistics (the tracer's per-Gaussian stats, accumulated between calls of
-  // `densify`) and the call site: when set, called every schedule.densifyInterval steps from
-  // schedule.densifyFrom until schedule.densifyUntil; it may change the Gaussian count (the
-  // session then re-uploads the table and rebuilds the proxies). Unset: no densification.
+  // Densification (engine/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
+  // accumulated since the last clone/split, and the schedule derived from config.schedule.
   std::vector<float> densifyStats;
-  std::function<void(TrainSession&)> densify;
+  DensifyConfig densifyConfig;
+  DensifyStats lastDensify;
 
   std::mt19937 rng;
   std::vector<uint32_t> viewOrder;  // a shuffled pass over the training views
