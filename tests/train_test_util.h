@@ -5,6 +5,8 @@
 #include <map>
 #include <string>
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "engine/io/json_io.h"
@@ -15,7 +17,7 @@ namespace refrax::test {
 struct TrainTempDir {
   std::filesystem::path path;
   TrainTempDir() {
-    path = std::filesystem::temp_directory_path() / ("refrax-train-test-" + std::to_string(freshSeed()) + "-" + std::to_string(std::rand()));
+    path = std::filesystem::temp_directory_path() / ("refrax-train-test-" + std::to_string(getpid()) + "-" + std::to_string(freshSeed()) + "-" + std::to_string(std::rand()));
     std::filesystem::create_directories(path);
   }
   ~TrainTempDir() { std::filesystem::remove_all(path); }
