@@ -16,6 +16,8 @@ WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions&
     if (!j.is_object()) fail(path + ": expected a JSON object");
     if (j.contains("ior")) w.ior = requireNumber(j, "ior", path);
     if (j.contains("height")) w.height = requireNumber(j, "height", path);
+    // `refrax synth` writes the mean water level as "mean_height"
+    else if (j.contains("mean_height")) w.height = requireNumber(j, "mean_height", path);
     if (j.contains("depth")) w.depth = requireNumber(j, "depth", path);
     if (j.contains("domain")) {
       const auto& d = j["domain"];

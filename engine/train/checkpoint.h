@@ -1,0 +1,25 @@
+#pragma once
+// Training checkpoints: every parameter (Gaussian table, height-field weights or plane
+// height), every Adam moment and step, the step count, the RNG and the view order, so that
+// resuming continues exactly where the run stopped. RUN/checkpoints/step_NNNNNNN.ckpt,
+// written atomically (temp file + rename); the two newest are kept.
+//
+// Format (little-endian): char[8] "RFXCKPT\0", u32 version, then length-prefixed sections
+// (u64 byte count + bytes) in a fixed order, then a u32 FNV-1a checksum of every byte before
+// it. A missing, truncated, corrupted or mismatched file is one refrax::Error.
+#include <string>
+
+#include "engine/train/train_session.h"
+
+namespace refrax {
+
+std::string checkpointPath(const std::string& runDir, int step);
+void saveCheckpoint(TrainSession& session, const std::string& runDir);
+// The newest checkpoint of the run ("" when there is none).
+std::string latestCheckpoint(const std::string& runDir);
+// Checks the file's magic, version and checksum without a session (refrax::Error otherwise).
+void verifyCheckpointFile(const std::string& path);
+// Restores a session created from the run's config.json.
+void loadCheckpoint(TrainSession& session, const std::string& path);
+
+}  // namespace refrax

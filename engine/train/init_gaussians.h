@@ -1,0 +1,17 @@
+#pragma once
+// The initial Gaussians (DESIGN 1.6): means uniform in a box under the water, identity
+// rotation, density `density`, isotropic log scale log(d) with d the distance to the nearest
+// other mean (3DGS initialises from nearest neighbours too), a random colour (SH DC) and
+// zero higher SH bands.
+#include <random>
+
+#include "engine/gaussians.h"
+
+namespace refrax {
+
+GaussianSet initialGaussians(std::mt19937& rng, size_t count, const double boxMin[3], const double boxMax[3], double density);
+// Distance from each point to its nearest other point (sweep over points sorted by x);
+// 0 where points coincide; a lone point gets the box diagonal it is given.
+std::vector<double> nearestNeighbourDistances(const std::vector<double>& xyz, double fallback);
+
+}  // namespace refrax

@@ -1,0 +1,165 @@
+#include "engine/train/render_run.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "engine/dataset/ground_truth.h"
+#include "engine/error.h"
+#include "engine/surface_record.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
+
+namespace refrax {
+
+Camera lookAtCamera(const glm::dvec3& position, const glm::dvec3& target, int width, int height, double fovY) {
+  if (width <= 0 || height <= 0) fail("camera: the image size must be positive");
+  if (!(fovY > 0 && fovY < M_PI)) fail("camera: the field of view must be in (0, 180) degrees");
+  glm::dvec3 back = position - target;
+  if (!(glm::length(back) > 0)) fail("camera: the position and the target coincide");
+  back = glm::normalize(back);
+  glm::dvec3 worldUp(0, 0, 1);
+  if (std::abs(glm::dot(worldUp, back)) > 0.999) worldUp = glm::dvec3(0, 1, 0);  // looking straight down: image up is +y
+  glm::dvec3 right = glm::normalize(glm::cross(worldUp, back));
+  glm::dvec3 up = glm::cross(back, right);
+  Camera c;
+  c.cameraToWorld = glm::dmat4(glm::dvec4(right, 0), glm::dvec4(up, 0), glm::dvec4(back, 0), glm::dvec4(position, 1));
+  c.width = width;
+  c.height = height;
+  c.fy = 0.5 * height / std::tan(fovY / 2);
+  c.fx = c.fy;
+  c.cx = 0.5 * width;
+  c.cy = 0.5 * height;
+  return c;
+}
+
+RenderedView renderView(TrainSession& s, const Camera& camera, WaterView water, const AnalyticHeightField* swap) {
+  Context& ctx = *s.ctx;
+  uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  ensureRayCapacity(s, n);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.rayPipelines, camera, s.rays, 0.0f, 1e6f); });
+  RenderedView out;
+  const Buffer* traced = &s.rays;
+  std::optional<WaterSurface> swapped;
+  WaterSurface* surface = nullptr;
+  HeightSource source;
+  if (water == WaterView::Keep && s.surface) {
+    surface = &*s.surface;
+    surface->config.faceNormals = s.step <= s.config.schedule.faceNormalsUntil;
+    source = currentHeightSource(s);
+  } else if (water == WaterView::Swap) {
+    if (!swap) fail("render: no surface to swap in");
+    WaterSurfaceConfig wc;
+    wc.domain = SurfaceDomain{float(s.config.domain.xMin), float(s.config.domain.yMin), float(s.config.domain.xMax), float(s.config.domain.yMax)};
+    wc.gridCells = s.config.gridCells;
+    wc.subdivisionLevels = s.config.subdivisionLevels;
+    wc.ior = float(s.config.ior);
+    wc.maxRays = s.capacity;
+    swapped.emplace(createWaterSurface(ctx, wc));
+    surface = &*swapped;
+    source = heightSource(*swap);
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *surface, source); });
+  }
+  if (surface) {
+    traceSurface(ctx, *surface, source, s.rays, n, s.refracted, s.records);
+    traced = &s.refracted;
+    out.missed = surface->lastCounters.missed;
+    auto records = downloadVector<SurfaceRecord>(ctx, s.records, n);
+    auto refracted = downloadVector<GpuRay>(ctx, s.refracted, n);
+    auto rays = downloadVector<GpuRay>(ctx, s.rays, n);
+    double h = s.config.waterHeight;
+    for (uint32_t i = 0; i < n; i++) {
+      if (!(records[i].flags() & kSurfaceHit)) continue;
+      out.surfacePoints.emplace_back(refracted[i].origin[0], refracted[i].origin[1], refracted[i].origin[2]);
+      const GpuRay& r = rays[i];
+      double t = (h - r.origin[2]) / r.dir[2];
+      out.planePoints.emplace_back(r.origin[0] + t * r.dir[0], r.origin[1] + t * r.dir[1], h);
+    }
+  }
+  TraceOptions opt;
+  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(s.config.datasetOptions.background[ch]);
+  opt.shDegree = shDegreeAt(s.config, std::max(1, s.step));
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, s.tracer, s.proxies, s.device, *traced, s.results, n, opt); });
+  auto results = downloadVector<GpuTraceResult>(ctx, s.results, n);
+  out.image.width = camera.width;
+  out.image.height = camera.height;
+  out.image.channels = 3;
+  out.image.pixels.resize(size_t(n) * 3);
+  for (uint32_t i = 0; i < n; i++)
+    for (int ch = 0; ch < 3; ch++) out.image.pixels[3 * i + ch] = std::clamp(results[i].rgb[ch], 0.0f, 1.0f);
+  return out;
+}
+
+namespace {
+
+std::string indexed(const std::string& dir, size_t i, const char* suffix) {
+  char name[48];
+  std::snprintf(name, sizeof name, "test_%03zu%s.png", i, suffix);
+  return (std::filesystem::path(dir) / name).string();
+}
+
+
+}  // namespace
+
+nlohmann::json evaluateSession(TrainSession& s, const Dataset& data, const std::string& rendersDir) {
+  const auto& test = data.split("test");
+  std::optional<HeightGrid> truth = loadGroundTruthSurface(data);
+  nlohmann::json views = nlohmann::json::array();
+  double psnrSum = 0, ssimSum = 0;
+  std::vector<glm::dvec3> points, planePoints;
+  uint32_t missed = 0;
+  for (size_t i = 0; i < test.size(); i++) {
+    RenderedView r = renderView(s, test[i].camera, WaterView::Keep);
+    double p = psnr(r.image, test[i].image), q = ssim(r.image, test[i].image);
+    psnrSum += p;
+    ssimSum += q;
+    missed += r.missed;
+    points.insert(points.end(), r.surfacePoints.begin(), r.surfacePoints.end());
+    planePoints.insert(planePoints.end(), r.planePoints.begin(), r.planePoints.end());
+    views.push_back({{"name", test[i].name}, {"psnr", p}, {"ssim", q}});
+    if (!rendersDir.empty()) {
+      writePng(indexed(rendersDir, i, ""), r.image);
+      writePng(indexed(rendersDir, i, "_air"), renderView(s, test[i].camera, WaterView::Remove).image);
+    }
+  }
+  nlohmann::json m;
+  m["model"] = waterModelName(s.config.model);
+  m["step"] = s.step;
+  m["test_views"] = views;
+  m["psnr"] = psnrSum / double(test.size());
+  m["ssim"] = ssimSum / double(test.size());
+  m["missed_rays"] = missed;
+  if (truth && !points.empty()) {
+    m["surface_rmse"] = surfaceRmse(*truth, points);
+    m["surface_points"] = points.size();
+    m["initial_flat_surface_rmse"] = surfaceRmse(*truth, planePoints);
+  } else if (truth && s.config.model == WaterModel::NoRefraction) {
+    // No surface is modelled: its surface is the initial flat plane (reported for comparison).
+    std::vector<glm::dvec3> plane;
+    for (const auto& v : test) {
+      Camera c = v.camera;
+      for (int y = 0; y < c.height; y++)
+        for (int x = 0; x < c.width; x++) {
+          glm::dvec3 d = glm::normalize(c.right() * ((x + 0.5 - c.cx) / c.fx) - c.up() * ((y + 0.5 - c.cy) / c.fy) - c.back());
+          double t = (s.config.waterHeight - c.position().z) / d.z;
+          glm::dvec3 q = c.position() + t * d;
+          if (t > 0 && q.x >= s.config.domain.xMin && q.x <= s.config.domain.xMax && q.y >= s.config.domain.yMin && q.y <= s.config.domain.yMax)
+            plane.push_back(q);
+        }
+    }
+    m["initial_flat_surface_rmse"] = surfaceRmse(*truth, plane);
+  }
+  if (data.splits.count("air")) {
+    const auto& air = data.split("air");
+    double sum = 0;
+    for (const auto& v : air) sum += psnr(renderView(s, v.camera, WaterView::Remove).image, v.image);
+    m["water_removal_psnr"] = sum / double(air.size());
+  }
+  m["gaussians"] = s.gaussians.count();
+  uint64_t bytes = uint64_t(s.gaussians.params.size()) * 4 + (s.height ? s.height->parameterCount * 4 : 0) +
+                   (s.config.model == WaterModel::FlatWater ? 4 : 0);
+  m["model_bytes"] = bytes;
+  m["training_seconds"] = s.trainingSeconds;
+  return m;
+}
+
+}  // namespace refrax

@@ -1,0 +1,42 @@
+#pragma once
+// Rendering a trained model and measuring it: a view through the learned water (camera rays
+// refracted at the surface, then the Gaussians), with the water removed (straight rays), or
+// through another surface swapped in (a closed-form one: flat or sine, engine/analytic_height.h);
+// and the metrics of a run against a dataset (test PSNR/SSIM, surface RMSE against the ground
+// truth, water-removal PSNR against the air images).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "engine/analytic_height.h"
+#include "engine/camera.h"
+#include "engine/io/image_io.h"
+#include "engine/metrics.h"
+#include "engine/train/train_session.h"
+
+namespace refrax {
+
+enum class WaterView { Keep, Remove, Swap };
+
+struct RenderedView {
+  Image image;
+  std::vector<glm::dvec3> surfacePoints;  // hits on the water (Keep / Swap)
+  std::vector<glm::dvec3> planePoints;    // the same pixels' hits on the initial flat water plane
+  uint32_t missed = 0;                    // rays that missed the surface domain
+};
+
+// `swap` is used for WaterView::Swap only (its own surface is built for the call).
+RenderedView renderView(TrainSession& session, const Camera& camera, WaterView water, const AnalyticHeightField* swap = nullptr);
+
+// A look-at camera: position, target, world up +z, vertical field of view (radians).
+Camera lookAtCamera(const glm::dvec3& position, const glm::dvec3& target, int width, int height, double fovY);
+
+// Metrics of the session's model on `dataset` (its test split; its ground-truth surface and
+// air split when present); when rendersDir is not empty, writes test_NNN.png and
+// test_NNN_air.png there.
+nlohmann::json evaluateSession(TrainSession& session, const Dataset& dataset, const std::string& rendersDir);
+
+}  // namespace refrax

@@ -1,0 +1,88 @@
+#pragma once
+// Everything one training run is made of, resolved before the first step and written to
+// RUN/config.json, so `refrax render`, `refrax eval` and `--resume` rebuild the same model.
+// Schedules (DESIGN 1.6) are given for the reference 15,000 steps; resolveSchedule scales
+// every step count that was not set explicitly by steps / 15000, so a short run passes
+// through the same phases (surface frozen, face normals, SH degrees, density resets).
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/dataset/dataset.h"
+
+namespace refrax {
+
+enum class WaterModel { Refraction, NoRefraction, FlatWater };
+const char* waterModelName(WaterModel model);
+WaterModel parseWaterModel(const std::string& name);
+
+// A step count of the schedule: explicit (from the command line) or scaled from the reference.
+// An interval of 0 (explicit only) switches its event off; the SH interval must be >= 1.
+struct ScheduleSteps {
+  int surfaceFreeze = -1;        // surface (and flat height) frozen before this step; reference 1,000
+  int faceNormalsUntil = -1;     // flat face normals before this step; reference 7,500
+  int shDegreeInterval = -1;     // SH degree +1 every this many steps; reference 1,000
+  int densityResetInterval = -1; // density reset to <= 0.01 every ...; reference 3,000
+  int densityResetUntil = -1;    // no reset from this step on; reference 12,000 (a reset needs steps to recover)
+  int densityDecayInterval = -1; // density x decay every ...; reference 50
+  int densifyFrom = -1;          // densification call site from ...; reference 500
+  int densifyInterval = -1;      // ... every ...; reference 300
+  int densifyUntil = -1;         // ... until; reference 15,000 * 0.8
+  int pruneInterval = -1;        // low-density pruning every ...; reference 100 (same from/until)
+  int pruneLargeFrom = -1;       // pruning of over-large Gaussians from ...; reference 3,000
+  int lrSteps = -1;              // length of the decaying learning-rate schedules; reference 30,000
+};
+
+struct TrainConfig {
+  std::string dataset;
+  DatasetOptions datasetOptions;  // as given on the command line (overrides water.json)
+  WaterModel model = WaterModel::Refraction;
+  int steps = 15000;
+  uint64_t seed = 1;
+
+  // Water (resolved from water.json / options / the cameras).
+  double ior = 1.33, waterHeight = 0, depth = 0, extent = 1;
+  Rect domain;
+  double boxMin[3] = {0, 0, 0}, boxMax[3] = {0, 0, 0};
+
+  // Gaussians.
+  uint32_t initialGaussians = 20000;
+  uint32_t maxGaussians = 1000000;
+  double initialDensity = 0.1;
+  uint32_t maxShDegree = 3;
+  uint32_t kBuffer = 16;
+  std::string proxy = "auto";
+
+  // Height field and surface.
+  uint32_t mlpWidth = 64, mlpHiddenLayers = 3, mlpOctaves = 6;
+  // Last-layer initial range: the reference's 0.1 starts a 64-wide MLP with height noise of
+  // about +-0.3 (larger than the waves of the scenes); a small range starts nearly flat.
+  double mlpInitRange = 1e-3;
+  uint32_t gridCells = 64, subdivisionLevels = 2;
+
+  // Schedule and its resolved values.
+  ScheduleSteps schedule;
+  double densityDecay = 0.99;
+  double densityResetValue = 0.01;
+  bool densify = true;             // clone/split/prune (engine/densify.h)
+  double densifyGradThreshold = 3e-4;
+
+  // Batching: 0 trains on whole images; P > 0 on one random P x P patch of the image per step
+  // (SSIM needs an image-shaped batch: a patch keeps its window statistics; about P^2 / (w h)
+  // of the rays and time per step, and the same number of steps sees P^2 / (w h) of the pixels).
+  uint32_t patch = 0;
+
+  // Logging and files.
+  int progressEvery = 50, evalEvery = 0, checkpointEvery = 500;
+};
+
+// Fills every unset step count of the schedule from the reference values scaled by steps / 15000.
+void resolveSchedule(TrainConfig& config);
+// Throws refrax::Error naming the first bad value.
+void validateTrainConfig(const TrainConfig& config);
+
+nlohmann::json trainConfigToJson(const TrainConfig& config);
+TrainConfig trainConfigFromJson(const nlohmann::json& json, const std::string& where);
+
+}  // namespace refrax

@@ -1,0 +1,125 @@
+#include "engine/train/train_run.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "engine/dataset/scene_bounds.h"
+#include "engine/error.h"
+#include "engine/io/atomic_file.h"
+#include "engine/io/json_io.h"
+#include "engine/io/npy.h"
+#include "engine/io/ply_gaussians.h"
+#include "engine/train/checkpoint.h"
+#include "engine/train/render_run.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
+
+namespace refrax {
+
+void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
+  const auto& train = d.split("train");
+  d.split("test");  // an evaluation needs test views: refrax::Error when absent
+  std::vector<Camera> cams;
+  for (const auto& v : train) cams.push_back(v.camera);
+  if (!d.water.height)
+    fail("the water height is unknown: give it in " + d.root + "/water.json ('height') or with --water-height");
+  c.ior = d.water.ior;
+  c.waterHeight = *d.water.height;
+  c.domain = d.water.domain ? *d.water.domain : surfaceDomainFromCameras(cams, c.waterHeight);
+  c.depth = d.water.depth ? *d.water.depth : estimateWaterDepth(train, c.waterHeight, c.ior);
+  Box b = gaussianBoxFromRefractedFrusta(cams, c.waterHeight, c.ior, c.depth);
+  for (int a = 0; a < 3; a++) {
+    c.boxMin[a] = b.min[a];
+    c.boxMax[a] = b.max[a];
+  }
+  c.extent = sceneExtent(cams);
+  resolveSchedule(c);
+  validateTrainConfig(c);
+}
+
+std::vector<double> sampleWaterHeights(TrainSession& s, uint32_t nx, uint32_t ny) {
+  const Rect& r = s.config.domain;
+  std::vector<float> xy(size_t(nx) * ny * 2);
+  for (uint32_t j = 0; j < ny; j++)
+    for (uint32_t i = 0; i < nx; i++) {
+      xy[2 * (j * nx + i)] = float(r.xMin + (r.xMax - r.xMin) * i / double(nx - 1));
+      xy[2 * (j * nx + i) + 1] = float(r.yMin + (r.yMax - r.yMin) * j / double(ny - 1));
+    }
+  std::vector<double> out(size_t(nx) * ny, s.config.model == WaterModel::FlatWater ? s.planeHeight : s.config.waterHeight);
+  if (s.height) {
+    Context& ctx = *s.ctx;
+    Buffer points = createBufferFrom(ctx, xy);
+    Buffer heights = createBuffer(ctx, out.size() * 4);
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdEvaluateHeights(cb, *s.height, points, uint32_t(out.size()), heights); });
+    auto h = downloadVector<float>(ctx, heights, out.size());
+    for (size_t k = 0; k < out.size(); k++) out[k] = h[k];
+  }
+  return out;
+}
+
+nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
+  namespace fs = std::filesystem;
+  fs::path dir(runDir);
+  fs::create_directories(dir / "renders");
+  writeGaussiansPly((dir / "point_cloud.ply").string(), s.gaussians);
+  if (s.config.model != WaterModel::NoRefraction) {
+    uint32_t n = s.config.gridCells + 1;
+    NpyArray a;
+    a.shape = {n, n};
+    a.data = sampleWaterHeights(s, n, n);
+    writeNpy((dir / "water_height.npy").string(), a);
+  }
+  if (s.height) saveHeightField((dir / "height_field.bin").string(), *s.ctx, *s.height);
+  nlohmann::json m = evaluateSession(s, s.dataset, (dir / "renders").string());
+  m["water_height_domain"] = {s.config.domain.xMin, s.config.domain.yMin, s.config.domain.xMax, s.config.domain.yMax};
+  if (s.config.model == WaterModel::FlatWater) m["flat_water_height"] = s.planeHeight;
+  writeJson((dir / "metrics.json").string(), m);
+  return m;
+}
+
+nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const TrainProgress& progress) {
+  const TrainConfig& c = s.config;
+  auto start = std::chrono::steady_clock::now();
+  int first = s.step;
+  auto say = [&](const std::string& text) {
+    if (progress.line) progress.line(text);
+  };
+  while (s.step < c.steps) {
+    StepResult r = trainStep(s);
+    if (s.step % c.progressEvery == 0 || s.step == c.steps) {
+      double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      double rate = (s.step - first) / std::max(elapsed, 1e-9);
+      char line[256];
+      std::snprintf(line, sizeof line, "step %6d/%d  loss %.5f  psnr %6.2f  gaussians %u  %.2f steps/s  eta %.0f s", s.step, c.steps, r.loss,
+                    r.psnr, r.gaussians, rate, (c.steps - s.step) / std::max(rate, 1e-9));
+      say(line);
+    }
+    if (c.evalEvery > 0 && s.step % c.evalEvery == 0 && s.step < c.steps) {
+      nlohmann::json m = evaluateSession(s, s.dataset, "");
+      char line[160];
+      std::snprintf(line, sizeof line, "eval step %d: test psnr %.3f ssim %.4f", s.step, m["psnr"].get<double>(), m["ssim"].get<double>());
+      say(line);
+    }
+    if (c.checkpointEvery > 0 && s.step % c.checkpointEvery == 0) saveCheckpoint(s, runDir);
+  }
+  if (latestCheckpoint(runDir) != checkpointPath(runDir, s.step)) saveCheckpoint(s, runDir);
+  return writeRunOutputs(s, runDir);
+}
+
+TrainConfig readRunConfig(const std::string& runDir) {
+  std::string path = (std::filesystem::path(runDir) / "config.json").string();
+  if (!fileExists(path)) fail(runDir + " is not a training run (no config.json)");
+  return trainConfigFromJson(readJson(path), path);
+}
+
+std::unique_ptr<TrainSession> openRun(Context& ctx, const std::string& runDir, bool requireCheckpoint) {
+  TrainConfig c = readRunConfig(runDir);
+  std::string ckpt = latestCheckpoint(runDir);
+  if (ckpt.empty() && requireCheckpoint) fail(runDir + " has no checkpoint yet");
+  auto s = createTrainSession(ctx, c, loadDataset(c.dataset, c.datasetOptions));
+  if (!ckpt.empty()) loadCheckpoint(*s, ckpt);
+  return s;
+}
+
+}  // namespace refrax

@@ -1,0 +1,43 @@
+#pragma once
+// A training run on disk: RUN/config.json (the resolved configuration), RUN/checkpoints/,
+// and at the end point_cloud.ply, water_height.npy (+ height_field.bin), renders/ and
+// metrics.json. Every file is written atomically; a bad dataset fails before RUN is created.
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/train/train_config.h"
+#include "engine/train/train_session.h"
+
+namespace refrax {
+
+struct Context;
+
+// Fills the water and scene values of `config` from the dataset (water.json and options,
+// else derived from the cameras: engine/dataset/scene_bounds.h) and resolves the schedule.
+// refrax::Error when the water height is unknown.
+void resolveSceneConfig(TrainConfig& config, const Dataset& dataset);
+
+// The height grid written as water_height.npy: (ny, nx) heights over the domain, rows along y
+// (the ground-truth layout of engine/dataset/ground_truth.h).
+std::vector<double> sampleWaterHeights(TrainSession& session, uint32_t nx, uint32_t ny);
+
+struct TrainProgress {
+  std::function<void(const std::string&)> line;  // progress lines (stderr in the CLI)
+};
+
+// Trains from the session's current step to config.steps, writing checkpoints, then the
+// final outputs. runDir must exist and hold config.json.
+nlohmann::json trainToEnd(TrainSession& session, const std::string& runDir, const TrainProgress& progress);
+
+// Writes the final outputs of the session into runDir.
+nlohmann::json writeRunOutputs(TrainSession& session, const std::string& runDir);
+
+// config.json of a run, and its session restored from the newest checkpoint (with the
+// dataset of the config, or `datasetOverride` when given).
+TrainConfig readRunConfig(const std::string& runDir);
+std::unique_ptr<TrainSession> openRun(Context& ctx, const std::string& runDir, bool requireCheckpoint = true);
+
+}  // namespace refrax

@@ -1,0 +1,378 @@
+#include "engine/train/train_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "engine/error.h"
+#include "engine/gaussian_math.h"
+#include "engine/height_field_source.h"
+#include "engine/train/init_gaussians.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
+
+namespace refrax {
+namespace {
+
+// Rebuilding the proxies' tree order (median split) every this many steps keeps the BVH
+// tight as Gaussians move; between, the tree is rebuilt in the same order.
+constexpr int kProxyReorderInterval = 100;
+
+double logitOf(double p) { return std::log(p / (1.0 - p)); }
+double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
+
+void allocateRayBuffers(TrainSession& s, uint32_t n) {
+  Context& ctx = *s.ctx;
+  s.capacity = n;
+  s.pixels = createBuffer(ctx, size_t(n) * 4);
+  s.rays = createBuffer(ctx, size_t(n) * sizeof(GpuRay));
+  s.refracted = createBuffer(ctx, size_t(n) * sizeof(GpuRay));
+  s.records = createBuffer(ctx, size_t(n) * 32);
+  s.results = createBuffer(ctx, size_t(n) * sizeof(GpuTraceResult));
+  s.rendered = createBuffer(ctx, size_t(n) * 12);
+  s.target = createBuffer(ctx, size_t(n) * 12);
+  s.lossGrad = createBuffer(ctx, size_t(n) * 12);
+  s.dLoss = createBuffer(ctx, size_t(n) * 16);
+  s.rayGrads = createBuffer(ctx, size_t(n) * sizeof(GpuRayGrad));
+}
+
+void allocateGaussianBuffers(TrainSession& s) {
+  size_t n = std::max<size_t>(1, s.gaussians.count());
+  s.grads = createBuffer(*s.ctx, n * kGaussianFloats * 4);
+  s.stats = createBuffer(*s.ctx, n * 2 * 4);
+}
+
+void createSurface(TrainSession& s) {
+  WaterSurfaceConfig wc;
+  wc.domain = SurfaceDomain{float(s.config.domain.xMin), float(s.config.domain.yMin), float(s.config.domain.xMax), float(s.config.domain.yMax)};
+  wc.gridCells = s.config.gridCells;
+  wc.subdivisionLevels = s.config.subdivisionLevels;
+  wc.ior = float(s.config.ior);
+  wc.maxRays = s.capacity;
+  s.surface.emplace(createWaterSurface(*s.ctx, wc));
+  HeightSource src = currentHeightSource(s);
+  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, src); });
+}
+
+void shuffleViews(TrainSession& s) {
+  size_t n = s.dataset.split("train").size();
+  s.viewOrder.resize(n);
+  for (size_t i = 0; i < n; i++) s.viewOrder[i] = uint32_t(i);
+  std::shuffle(s.viewOrder.begin(), s.viewOrder.end(), s.rng);
+  s.viewCursor = 0;
+}
+
+double batchPsnr(const std::vector<float>& a, const std::vector<float>& b) {
+  double se = 0;
+  for (size_t i = 0; i < a.size(); i++) se += double(a[i] - b[i]) * double(a[i] - b[i]);
+  double mse = se / double(std::max<size_t>(1, a.size()));
+  return mse > 0 ? 10.0 * std::log10(1.0 / mse) : INFINITY;
+}
+
+}  // namespace
+
+uint32_t shDegreeAt(const TrainConfig& c, int step) {
+  return std::min<uint32_t>(c.maxShDegree, uint32_t(std::max(0, step - 1) / c.schedule.shDegreeInterval));
+}
+
+HeightSource currentHeightSource(const TrainSession& s) {
+  if (s.height) return heightSource(*s.height);
+  return heightSource(s.plane);
+}
+
+void ensureRayCapacity(TrainSession& s, uint32_t n) {
+  if (n <= s.capacity) return;
+  allocateRayBuffers(s, n);
+  if (s.surface) createSurface(s);
+}
+
+void syncGaussians(TrainSession& s, bool countChanged) {
+  validateGaussians(s.gaussians, "training");
+  if (countChanged) {
+    s.device = uploadGaussians(*s.ctx, s.gaussians);
+    s.proxies = buildGaussianProxies(*s.ctx, s.tracer, s.device, s.gaussians, s.proxyKind, true);
+    allocateGaussianBuffers(s);
+    return;
+  }
+  updateGaussians(*s.ctx, s.device, s.gaussians);
+  // Checkpoint steps reorder too, so a resumed run starts from the same proxy order.
+  bool reorder = s.step % kProxyReorderInterval == 0 || (s.config.checkpointEvery > 0 && s.step % s.config.checkpointEvery == 0);
+  if (reorder)
+    s.proxies = buildGaussianProxies(*s.ctx, s.tracer, s.device, s.gaussians, s.proxyKind, true);
+  else
+    updateGaussianProxies(*s.ctx, s.tracer, s.proxies, s.device, false);
+}
+
+std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig& config, Dataset dataset) {
+  validateTrainConfig(config);
+  auto s = std::make_unique<TrainSession>();
+  s->ctx = &ctx;
+  s->config = config;
+  s->dataset = std::move(dataset);
+  s->rng.seed(uint32_t(config.seed * 2654435761u + 17u));
+
+  s->gaussians = initialGaussians(s->rng, config.initialGaussians, config.boxMin, config.boxMax, config.initialDensity);
+  s->gaussianAdam = createGaussianAdam(config.extent, config.schedule.lrSteps, s->gaussians.count());
+  s->tracer = createGaussianTracer(ctx, config.kBuffer);
+  s->proxyKind = proxyKindFor(config.proxy, ctx.caps);
+  s->device = uploadGaussians(ctx, s->gaussians);
+  s->proxies = buildGaussianProxies(ctx, s->tracer, s->device, s->gaussians, s->proxyKind, true);
+  allocateGaussianBuffers(*s);
+  s->densifyStats.assign(s->gaussians.count() * 2, 0.0f);
+  DensifyConfig& dc = s->densifyConfig;
+  const ScheduleSteps& k = config.schedule;
+  // 3DGS measures "large" against the cameras' spread; cameras close together over a wide
+  // scene (the downward grids of the NeRFrac-like data: spread 0.3, scene 2 x 2) would make
+  // every initial Gaussian "large" and prune it, so the scene box's half-diagonal bounds it too.
+  double halfDiagonal = 0.5 * std::sqrt(std::pow(config.boxMax[0] - config.boxMin[0], 2) + std::pow(config.boxMax[1] - config.boxMin[1], 2) +
+                                        std::pow(config.boxMax[2] - config.boxMin[2], 2));
+  dc.sceneExtent = float(std::max(config.extent, halfDiagonal));
+  dc.densifyFrom = uint32_t(k.densifyFrom);
+  dc.densifyUntil = uint32_t(k.densifyUntil);
+  dc.densifyInterval = uint32_t(std::max(1, k.densifyInterval));
+  dc.gradThreshold = float(config.densifyGradThreshold);
+  dc.pruneFrom = uint32_t(k.densifyFrom);
+  dc.pruneUntil = uint32_t(k.densifyUntil);
+  dc.pruneInterval = uint32_t(std::max(1, k.pruneInterval));
+  dc.pruneLargeFromStep = uint32_t(k.pruneLargeFrom);
+  dc.maxGaussians = config.maxGaussians;
+  validateDensifyConfig(dc);
+
+  uint32_t most = 1;
+  for (const auto& [name, views] : s->dataset.splits)
+    for (const auto& v : views) most = std::max(most, uint32_t(v.camera.width * v.camera.height));
+  allocateRayBuffers(*s, most);
+  s->rayPipelines = createCameraRayPipelines(ctx);
+  s->lossPipelines = createLossPipelines(ctx);
+  s->lossResult = createBuffer(ctx, 16);
+  s->adamPipelines = createAdamPipelines(ctx);
+
+  if (config.model == WaterModel::Refraction) {
+    HeightFieldConfig hc;
+    hc.octaves = config.mlpOctaves;
+    hc.width = config.mlpWidth;
+    hc.hiddenLayers = config.mlpHiddenLayers;
+    hc.initialHeight = float(config.waterHeight);
+    hc.lastLayerInitRange = float(config.mlpInitRange);
+    hc.domainMin[0] = float(config.domain.xMin);
+    hc.domainMin[1] = float(config.domain.yMin);
+    hc.domainMax[0] = float(config.domain.xMax);
+    hc.domainMax[1] = float(config.domain.yMax);
+    s->height.emplace(createHeightField(ctx, hc, uint32_t(config.seed * 7919u + 3u)));
+    LearningRateSchedule lr = referenceLearningRate("height_mlp", config.extent);
+    lr.steps = config.schedule.lrSteps;
+    s->heightAdam = createAdamGroup(ctx, "height_mlp", lr, 1, uint32_t(s->height->parameterCount));
+    s->heightGrad = createBuffer(ctx, s->height->parameterCount * 4);
+    fillBuffer(ctx, s->heightGrad, 0);
+  }
+  if (config.model == WaterModel::FlatWater) {
+    s->planeHeight = config.waterHeight;
+    AnalyticWaves w;
+    w.base = float(s->planeHeight);
+    s->plane = createAnalyticHeightField(ctx, w);
+  }
+  if (config.model != WaterModel::NoRefraction) createSurface(*s);
+  shuffleViews(*s);
+  return s;
+}
+
+namespace {
+
+// dL/d(plane height): every lattice height is the one plane height, so the derivative is
+// the sum of dL/dheight over every lattice point the backward touched.
+double planeHeightGradient(TrainSession& s) {
+  WaterSurface& ws = *s.surface;
+  SurfaceCounters c = readSurfaceCounters(*s.ctx, ws);
+  double sum = 0;
+  for (float g : downloadVector<float>(*s.ctx, ws.gridGrad, ws.gridPointCount))
+    if (std::isfinite(g)) sum += g;
+  for (float g : downloadVector<float>(*s.ctx, ws.pointGrad, c.points))
+    if (std::isfinite(g)) sum += g;
+  return sum;
+}
+
+void planeAdamStep(TrainSession& s, double grad) {
+  LearningRateSchedule lr = referenceLearningRate("height_mlp", s.config.extent);
+  lr.steps = s.config.schedule.lrSteps;
+  AdamSettings a;
+  s.planeStep++;
+  s.planeM = a.beta1 * s.planeM + (1 - a.beta1) * grad;
+  s.planeV = a.beta2 * s.planeV + (1 - a.beta2) * grad * grad;
+  double mHat = s.planeM / (1 - std::pow(a.beta1, s.planeStep)), vHat = s.planeV / (1 - std::pow(a.beta2, s.planeStep));
+  s.planeHeight -= lr.at(s.planeStep) * mHat / (std::sqrt(vHat) + a.epsilon);
+  s.plane.waves.base = float(s.planeHeight);
+}
+
+void applyDensitySchedule(TrainSession& s, int t) {
+  const ScheduleSteps& k = s.config.schedule;
+  size_t n = s.gaussians.count();
+  if (k.densityDecayInterval > 0 && t % k.densityDecayInterval == 0) {
+    for (size_t i = 0; i < n; i++) {
+      float& l = s.gaussians.at(i)[f32::kGaussLogitDensity];
+      l = float(logitOf(std::clamp(sigmoid(l) * s.config.densityDecay, 1e-6, 1 - 1e-6)));
+    }
+  }
+  // As in 3DGS, the reset belongs to the densification strategy (it lets pruning remove
+  // Gaussians that do not regain density): without densification it only costs steps.
+  if (s.config.densify && k.densityResetInterval > 0 && t % k.densityResetInterval == 0 && t < k.densityResetUntil) {
+    float cap = float(logitOf(s.config.densityResetValue));
+    for (size_t i = 0; i < n; i++) {
+      float& l = s.gaussians.at(i)[f32::kGaussLogitDensity];
+      l = std::min(l, cap);
+    }
+    resetGaussianAdamGroup(s.gaussianAdam, "density");
+  }
+}
+
+}  // namespace
+
+StepResult trainStep(TrainSession& s) {
+  auto start = std::chrono::steady_clock::now();
+  Context& ctx = *s.ctx;
+  const TrainConfig& c = s.config;
+  int t = ++s.step;
+  const auto& trainViews = s.dataset.split("train");
+  if (s.viewCursor >= s.viewOrder.size()) shuffleViews(s);
+  const View& view = trainViews[s.viewOrder[s.viewCursor++]];
+  const Camera& cam = view.camera;
+
+  // The batch: the whole image or a random P x P patch of it.
+  uint32_t bw = uint32_t(cam.width), bh = uint32_t(cam.height), x0 = 0, y0 = 0;
+  bool patch = c.patch > 0 && (c.patch < bw || c.patch < bh);
+  if (patch) {
+    bw = std::min(c.patch, bw);
+    bh = std::min(c.patch, bh);
+    x0 = uint32_t(s.rng() % (uint32_t(cam.width) - bw + 1));
+    y0 = uint32_t(s.rng() % (uint32_t(cam.height) - bh + 1));
+  }
+  uint32_t n = bw * bh;
+  ensureRayCapacity(s, n);
+  std::vector<float> target(size_t(n) * 3);
+  std::vector<uint32_t> pixelList(patch ? n : 0);
+  for (uint32_t y = 0; y < bh; y++)
+    for (uint32_t x = 0; x < bw; x++) {
+      uint32_t i = y * bw + x;
+      if (patch) pixelList[i] = (y0 + y) * uint32_t(cam.width) + x0 + x;
+      for (int ch = 0; ch < 3; ch++) target[3 * i + ch] = view.image.at(int(x0 + x), int(y0 + y), ch);
+    }
+  upload(ctx, s.target, target.data(), target.size() * 4);
+  if (patch) upload(ctx, s.pixels, pixelList.data(), pixelList.size() * 4);
+
+  bool refract = s.surface.has_value();
+  bool surfaceLearns = refract && t > c.schedule.surfaceFreeze;
+  if (refract) s.surface->config.faceNormals = t <= c.schedule.faceNormalsUntil;
+  TraceOptions opt;
+  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(c.datasetOptions.background[ch]);
+  opt.shDegree = shDegreeAt(c, t);
+
+  static bool timing = std::getenv("REFRAX_TRAIN_TIMING") != nullptr;
+  auto mark = [&, last = std::chrono::steady_clock::now()](const char* what) mutable {
+    if (!timing) return;
+    auto now = std::chrono::steady_clock::now();
+    std::fprintf(stderr, "%s %.1f ms  ", what, std::chrono::duration<double, std::milli>(now - last).count());
+    last = now;
+  };
+  // Forward.
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    if (patch)
+      cmdCameraRaysForPixels(cb, s.rayPipelines, cam, s.pixels, n, s.rays, 0.0f, 1e6f);
+    else
+      cmdCameraRays(cb, s.rayPipelines, cam, s.rays, 0.0f, 1e6f);
+  });
+  HeightSource source = currentHeightSource(s);
+  mark("rays");
+  if (refract) traceSurface(ctx, *s.surface, source, s.rays, n, s.refracted, s.records);
+  mark("surface");
+  const Buffer& traced = refract ? s.refracted : s.rays;
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, s.tracer, s.proxies, s.device, traced, s.results, n, opt); });
+  std::vector<GpuTraceResult> results = downloadVector<GpuTraceResult>(ctx, s.results, n);
+  std::vector<float> rendered(size_t(n) * 3);
+  for (uint32_t i = 0; i < n; i++)
+    for (int ch = 0; ch < 3; ch++) rendered[3 * i + ch] = results[i].rgb[ch];
+  upload(ctx, s.rendered, rendered.data(), rendered.size() * 4);
+  mark("gaussians");
+
+  // Image loss and its gradient.
+  prepareImageLossScratch(ctx, s.lossScratch, bw, bh, 3);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdImageLoss(cb, s.lossPipelines, s.lossScratch, s.rendered, s.target, s.lossGrad, s.lossResult); });
+  std::vector<float> lossGrad = downloadVector<float>(ctx, s.lossGrad, size_t(n) * 3);
+  std::vector<float> lossResult = downloadVector<float>(ctx, s.lossResult, 4);
+  std::vector<float> dLoss(size_t(n) * 4, 0.0f);  // dL/dopacity stays 0: the background is part of rgb
+  for (uint32_t i = 0; i < n; i++)
+    for (int ch = 0; ch < 3; ch++) dLoss[4 * i + ch] = lossGrad[3 * i + ch];
+  upload(ctx, s.dLoss, dLoss.data(), dLoss.size() * 4);
+  mark("loss");
+
+  // Backward: Gaussians, then the surface and its parameters.
+  fillBuffer(ctx, s.grads, 0);
+  fillBuffer(ctx, s.stats, 0);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdTraceBackward(cb, s.tracer, s.proxies, s.device, traced, s.results, s.dLoss, s.grads, s.stats, s.rayGrads, n, opt);
+    if (surfaceLearns && s.height) {
+      cmdBackwardSurface(cb, *s.surface, *s.height, s.rays, s.records, s.rayGrads, n, s.heightGrad);
+      cmdAdamStep(cb, s.adamPipelines, s.heightAdam, s.height->weights, s.heightGrad, 0, true);
+      cmdBarrier(cb);
+      cmdUpdateSurface(cb, *s.surface, *s.height);
+    } else if (surfaceLearns) {
+      cmdBackwardSurface(cb, *s.surface, source, s.rays, s.records, s.rayGrads, n);
+    }
+  });
+  mark("backward");
+  StepResult r;
+  if (refract) r.missed = s.surface->lastCounters.missed;
+  if (surfaceLearns && !s.height) {
+    planeAdamStep(s, planeHeightGradient(s));
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, source); });
+  }
+
+  // Gaussians: density regulariser, Adam, density schedule, densification.
+  std::vector<float> grads = downloadVector<float>(ctx, s.grads, s.gaussians.params.size());
+  std::vector<float> stats = downloadVector<float>(ctx, s.stats, s.gaussians.count() * 2);
+  for (size_t i = 0; i < stats.size(); i++) s.densifyStats[i] += stats[i];
+  size_t count = s.gaussians.count();
+  double densitySquares = 0;
+  for (size_t i = 0; i < count; i++) {
+    double sg = sigmoid(s.gaussians.at(i)[f32::kGaussLogitDensity]);
+    densitySquares += sg * sg;
+    grads[i * kGaussianFloats + f32::kGaussLogitDensity] += float(kDensityRegularizerWeight / double(count) * 2 * sg * sg * (1 - sg));
+  }
+  gaussianAdamStep(s.gaussianAdam, s.gaussians, grads);
+  applyDensitySchedule(s, t);
+  bool countChanged = false;
+  bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
+  bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
+  if (cloneSplit || prune) {
+    size_t before = s.gaussians.count();
+    std::vector<uint32_t> rowMap;
+    s.lastDensify = densify(s.gaussians, s.densifyStats, s.densifyConfig, uint32_t(t), s.rng, rowMap);
+    remapGaussianAdamRows(s.gaussianAdam, rowMap);
+    // The statistics restart after a clone/split (3DGS); a prune alone keeps the survivors'.
+    std::vector<float> kept(rowMap.size() * 2, 0.0f);
+    if (!cloneSplit)
+      for (size_t i = 0; i < rowMap.size(); i++)
+        if (rowMap[i] != kNewRow) {
+          kept[2 * i] = s.densifyStats[2 * rowMap[i]];
+          kept[2 * i + 1] = s.densifyStats[2 * rowMap[i] + 1];
+        }
+    bool identity = rowMap.size() == before;
+    for (size_t i = 0; identity && i < rowMap.size(); i++) identity = rowMap[i] == i;
+    countChanged = !identity;  // new rows: re-upload and rebuild the proxies
+    s.densifyStats = std::move(kept);
+  }
+  mark("adam");
+  syncGaussians(s, countChanged);
+  mark("sync");
+  if (timing) std::fprintf(stderr, "\n");
+
+  r.imageLoss = lossResult[0];
+  r.loss = r.imageLoss + kDensityRegularizerWeight * densitySquares / double(count);
+  r.psnr = batchPsnr(rendered, target);
+  r.gaussians = uint32_t(s.gaussians.count());
+  if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");
+  s.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace refrax

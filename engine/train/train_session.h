@@ -1,0 +1,112 @@
+#pragma once
+// One training run's state on the device and the host, and one optimisation step
+// (DESIGN 1.6, paper §3-4):
+//   camera rays (a whole training image or a random patch of it)
+//   -> water surface forward (refracted rays; skipped for --no-refraction)
+//   -> Gaussian forward -> 0.8 L1 + 0.2 (1 - SSIM) + 0.007 mean(density^2)
+//   -> Gaussian backward (per-Gaussian gradients, per-ray dL/d(origin, direction))
+//   -> surface backward -> dL/d(height parameters)
+//   -> Adam: the Gaussian table's six groups (engine/train/gaussian_adam.h) and the height
+//      MLP (device Adam, engine/adam.h), or the one height of --flat-water.
+// With REFRAX_TRAIN_TIMING set, each step prints its stages' wall times to stderr.
+// The session is not movable (height sources refer to its members): it lives in a unique_ptr.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "engine/adam.h"
+#include "engine/analytic_height.h"
+#include "engine/camera_rays.h"
+#include "engine/dataset/dataset.h"
+#include "engine/densify.h"
+#include "engine/gaussian_trace.h"
+#include "engine/height_field.h"
+#include "engine/image_loss.h"
+#include "engine/train/gaussian_adam.h"
+#include "engine/train/train_config.h"
+#include "engine/water_surface.h"
+
+namespace refrax {
+
+struct Context;
+
+struct StepResult {
+  double loss = 0;        // image loss + density regulariser
+  double imageLoss = 0;
+  double psnr = 0;        // of the rendered batch against its target
+  uint32_t gaussians = 0;
+  uint32_t missed = 0;    // rays that missed the surface domain
+};
+
+struct TrainSession {
+  TrainSession() = default;
+  TrainSession(const TrainSession&) = delete;
+  TrainSession& operator=(const TrainSession&) = delete;
+
+  Context* ctx = nullptr;
+  TrainConfig config;
+  Dataset dataset;
+
+  // Gaussians: the host table (Adam runs here), its device copy, the tracer and its proxies.
+  GaussianSet gaussians;
+  DeviceGaussians device;
+  GaussianAdam gaussianAdam;
+  GaussianTracer tracer;
+  ProxyKind proxyKind = ProxyKind::AabbBlas;
+  GaussianProxies proxies;
+
+  // The water: the MLP height field (refraction) or a plane of one learned height (flat water).
+  std::optional<HeightField> height;
+  AdamPipelines adamPipelines;
+  AdamGroup heightAdam;
+  Buffer heightGrad;
+  AnalyticHeightField plane;  // waves zero, base = planeHeight
+  double planeHeight = 0, planeM = 0, planeV = 0;
+  int planeStep = 0;
+  std::optional<WaterSurface> surface;
+
+  // Per-step buffers for up to `capacity` rays.
+  uint32_t capacity = 0;
+  CameraRayPipelines rayPipelines;
+  LossPipelines lossPipelines;
+  ImageLossScratch lossScratch;
+  Buffer pixels, rays, refracted, records, results, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
+
+  // Densification (engine/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
+  // accumulated since the last clone/split, and the schedule derived from config.schedule.
+  std::vector<float> densifyStats;
+  DensifyConfig densifyConfig;
+  DensifyStats lastDensify;
+
+  std::mt19937 rng;
+  std::vector<uint32_t> viewOrder;  // a shuffled pass over the training views
+  uint32_t viewCursor = 0;
+  int step = 0;                     // steps taken
+  double trainingSeconds = 0;       // wall time spent in steps (carried across resumes)
+};
+
+// Loads nothing: `dataset` and `config` (resolved) are given. Initialises the Gaussians,
+// the height field and the surface from config.seed.
+std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig& config, Dataset dataset);
+
+// One optimisation step (advances session.step).
+StepResult trainStep(TrainSession& session);
+
+// SH degree and face-normal switch in force at step t (1-based), from the schedule.
+uint32_t shDegreeAt(const TrainConfig& config, int step);
+
+// After the host table changed (Adam, decay, reset, densification): upload it and refresh
+// the proxies (same count: rebuild in place; new count: new proxies).
+void syncGaussians(TrainSession& session, bool countChanged);
+
+// Makes room for `rays` rays per pass (renders larger than a training batch).
+void ensureRayCapacity(TrainSession& session, uint32_t rays);
+
+// The height source the surface is lifted from (MLP or plane).
+HeightSource currentHeightSource(const TrainSession& session);
+
+}  // namespace refrax

@@ -1,0 +1,194 @@
+// `refrax train` end to end on tiny synthetic presets: refraction against the straight-ray
+// model, resuming from a checkpoint, and bad datasets. Sizes are CI-sized (lavapipe, 2 cores):
+// few Gaussians and steps; the bars below were set from measured runs (see each CHECK).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "engine/dataset/dataset.h"
+#include "engine/error.h"
+#include "engine/io/atomic_file.h"
+#include "engine/io/image_io.h"
+#include "engine/io/npy.h"
+#include "engine/io/ply_gaussians.h"
+#include "engine/train/checkpoint.h"
+#include "engine/train/render_run.h"
+#include "engine/train/train_run.h"
+#include "tests/gpu_test.h"
+#include "tests/train_test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace refrax {
+namespace {
+
+using test::TrainTempDir;
+
+const char* kTinyOptions = " --steps 300 --gaussians 2000 --patch 32 --progress-every 100 --checkpoint-every 0";
+// Measured (lavapipe, seed 1): test PSNR 16.37 after 300 steps; the bar leaves 1.4 dB.
+constexpr double kRefractionPsnrBar = 15.0;
+// Float atomics in the backward passes add in thread order, so even two uninterrupted runs
+// differ (measured on lavapipe, 40 steps: parameter differences max 0.019, RMS 8e-4, test
+// PSNR equal to 1e-4 dB); a resumed run must stay within that run-to-run spread.
+constexpr double kResumePsnrTolerance = 0.05;
+constexpr double kResumeParameterRms = 5e-3;
+
+// The refraction and straight-ray models trained once per test process on the same data.
+struct TinyComparison {
+  TrainTempDir dir;
+  nlohmann::json refraction, plain;
+};
+const TinyComparison& tinyComparison() {
+  static TinyComparison c = [] {
+    TinyComparison t;
+    std::string data = test::tinyDataset("nerfrac-primary-sine");
+    t.refraction = test::trainAndReadMetrics(data, t.dir / "refraction", kTinyOptions);
+    t.plain = test::trainAndReadMetrics(data, t.dir / "plain", std::string(kTinyOptions) + " --no-refraction");
+    MESSAGE("refraction psnr " << t.refraction["psnr"] << " ssim " << t.refraction["ssim"] << " surface rmse "
+                               << t.refraction["surface_rmse"] << " (flat " << t.refraction["initial_flat_surface_rmse"]
+                               << "); no-refraction psnr " << t.plain["psnr"]);
+    return t;
+  }();
+  return c;
+}
+
+TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the measured PSNR") {
+  const TinyComparison& c = tinyComparison();
+  for (const char* f : {"config.json", "metrics.json", "point_cloud.ply", "water_height.npy", "height_field.bin", "renders/test_000.png",
+                        "renders/test_000_air.png"})
+    CHECK_MESSAGE(fs::exists(fs::path(c.dir / "refraction") / f), f);
+  CHECK(!fs::exists(fs::path(c.dir / "plain") / "water_height.npy"));
+  CHECK(c.refraction["psnr"].get<double>() >= kRefractionPsnrBar);
+  CHECK(c.refraction["gaussians"].get<uint64_t>() == readGaussiansPly(c.dir / "refraction/point_cloud.ply").count());
+  CHECK(c.refraction.contains("water_removal_psnr"));
+  CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
+  NpyArray heights = readNpy(c.dir / "refraction/water_height.npy");
+  CHECK(heights.shape == std::vector<size_t>{65, 65});
+}
+
+// The paper's claim at CI size: refraction beats straight rays by 3 dB and recovers the
+// surface to half the flat plane's error. Not met at this size (see the report): kept as is.
+TEST_CASE("train: refraction beats straight rays by 3 dB and halves the flat surface error on a tiny NeRFrac-like run") {
+  const TinyComparison& c = tinyComparison();
+  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 3.0);
+  CHECK(c.refraction["surface_rmse"].get<double>() * 2.0 <= c.refraction["initial_flat_surface_rmse"].get<double>());
+}
+
+GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterrupted run ends") {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  TrainConfig c;
+  c.dataset = data;
+  c.steps = 40;
+  c.initialGaussians = 1000;
+  c.checkpointEvery = 20;
+  c.patch = 32;
+  c.seed = rng();
+  Dataset d = loadDataset(data, c.datasetOptions);
+  resolveSceneConfig(c, d);
+  TrainProgress quiet;
+
+  auto whole = createTrainSession(ctx, c, d);
+  nlohmann::json a = trainToEnd(*whole, dir / "whole", quiet);
+
+  auto first = createTrainSession(ctx, c, d);
+  while (first->step < 20) trainStep(*first);
+  saveCheckpoint(*first, dir / "split");
+  first.reset();
+  auto second = createTrainSession(ctx, c, d);
+  loadCheckpoint(*second, latestCheckpoint(dir / "split"));
+  CHECK(second->step == 20);
+  nlohmann::json b = trainToEnd(*second, dir / "split", quiet);
+
+  REQUIRE(whole->gaussians.params.size() == second->gaussians.params.size());
+  double sumSquares = 0;
+  for (size_t i = 0; i < whole->gaussians.params.size(); i++)
+    sumSquares += std::pow(double(whole->gaussians.params[i]) - double(second->gaussians.params[i]), 2);
+  double rms = std::sqrt(sumSquares / double(whole->gaussians.params.size()));
+  MESSAGE("psnr " << a["psnr"] << " vs " << b["psnr"] << ", parameter difference RMS " << rms);
+  CHECK(std::abs(a["psnr"].get<double>() - b["psnr"].get<double>()) <= kResumePsnrTolerance);
+  CHECK(std::abs(a["ssim"].get<double>() - b["ssim"].get<double>()) <= 1e-3);
+  CHECK(std::abs(a["surface_rmse"].get<double>() - b["surface_rmse"].get<double>()) <= 1e-4);
+  CHECK(rms <= kResumeParameterRms);
+
+  // A corrupted checkpoint is one clear error, for the engine and the CLI.
+  std::string path = latestCheckpoint(dir / "split");
+  std::string bytes = readFile(path);
+  bytes[bytes.size() / 2] ^= 0x5a;
+  writeFileAtomic(path, bytes.data(), bytes.size());
+  auto third = createTrainSession(ctx, c, d);
+  CHECK_THROWS_WITH_AS(loadCheckpoint(*third, path), doctest::Contains("corrupted"), Error);
+  writeTextAtomic(dir / "split/config.json", trainConfigToJson(c).dump());
+  test::CliResult r = test::runCli("train --resume " + (dir / "split"));
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find("corrupted") != std::string::npos);
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+}
+
+// Runs `refrax train` on a broken copy of the tiny dataset: one clear error naming `expect`,
+// a non-zero exit and no run folder.
+void expectCleanFailure(const std::string& dataset, const std::string& run, const std::string& expect) {
+  test::CliResult r = test::runCli("train " + dataset + " -o " + run + " --steps 2 --gaussians 100");
+  INFO(r.output);
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find(expect) != std::string::npos);
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+  CHECK(!fs::exists(run));
+}
+
+TEST_CASE("train: bad datasets give one clear error and leave no run folder") {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  auto copy = [&](const std::string& name) {
+    fs::copy(data, dir / name, fs::copy_options::recursive);
+    return dir / name;
+  };
+  nlohmann::json train = readJson(data + "/transforms_train.json");
+  std::string firstImage = train["frames"][0]["file_path"].get<std::string>();
+  if (fs::path(firstImage).extension().empty()) firstImage += ".png";
+
+  std::string missing = copy("missing");
+  fs::remove(fs::path(missing) / firstImage);
+  expectCleanFailure(missing, dir / "run_missing", fs::path(firstImage).stem().string() + " does not exist");
+
+  std::string wrongSize = copy("wrong_size");
+  Image small;
+  small.width = small.height = 7;
+  small.channels = 3;
+  small.pixels.assign(7 * 7 * 3, 0.5f);
+  writePng((fs::path(wrongSize) / firstImage).string(), small);
+  expectCleanFailure(wrongSize, dir / "run_wrong_size", fs::path(firstImage).filename().string());
+
+  std::string malformed = copy("malformed");
+  writeTextAtomic(malformed + "/transforms_train.json", "{\"camera_angle_x\": 0.8, \"frames\": [");
+  expectCleanFailure(malformed, dir / "run_malformed", "transforms_train.json");
+
+  // A NaN pose: the LLFF layout (poses_bounds.npy) once the Blender files are gone.
+  std::string nanPose = copy("nan_pose");
+  for (const char* f : {"transforms_train.json", "transforms_test.json", "transforms_air.json"}) fs::remove(fs::path(nanPose) / f);
+  NpyArray poses = readNpy(nanPose + "/poses_bounds.npy");
+  poses.data[3] = std::nan("");
+  writeNpy(nanPose + "/poses_bounds.npy", poses, true);
+  expectCleanFailure(nanPose, dir / "run_nan_pose", "poses_bounds.npy");
+
+  std::string emptySplit = copy("empty_split");
+  nlohmann::json test = readJson(data + "/transforms_test.json");
+  test["frames"] = nlohmann::json::array();
+  writeTextAtomic(emptySplit + "/transforms_test.json", test.dump());
+  expectCleanFailure(emptySplit, dir / "run_empty_split", "transforms_test.json");
+
+  // An existing non-empty run folder is left untouched.
+  fs::create_directories(dir / "taken");
+  writeTextAtomic(dir / "taken/keep.txt", "x");
+  test::CliResult r = test::runCli("train " + data + " -o " + (dir / "taken") + " --steps 2");
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find("not empty") != std::string::npos);
+  CHECK(readFile(dir / "taken/keep.txt") == "x");
+  CHECK(std::distance(fs::directory_iterator(dir / "taken"), fs::directory_iterator()) == 1);
+}
+
+}  // namespace
+}  // namespace refrax

@@ -1,0 +1,46 @@
+#pragma once
+// Shared by the training tests: a temporary folder, and tiny synthetic datasets generated
+// once per test process by the `refrax synth` CLI.
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/io/json_io.h"
+#include "tests/gpu_test.h"
+
+namespace refrax::test {
+
+struct TrainTempDir {
+  std::filesystem::path path;
+  TrainTempDir() {
+    path = std::filesystem::temp_directory_path() / ("refrax-train-test-" + std::to_string(getpid()) + "-" + std::to_string(freshSeed()) + "-" + std::to_string(std::rand()));
+    std::filesystem::create_directories(path);
+  }
+  ~TrainTempDir() { std::filesystem::remove_all(path); }
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+// The tiny preset's dataset folder (generated on first use; removed at process exit).
+inline std::string tinyDataset(const std::string& preset) {
+  static TrainTempDir root;
+  static std::map<std::string, std::string> made;
+  auto it = made.find(preset);
+  if (it != made.end()) return it->second;
+  std::string dir = root / preset;
+  CliResult r = runCli("synth " + preset + " --size tiny -o " + dir);
+  REQUIRE_MESSAGE(r.exitCode == 0, r.output);
+  return made[preset] = dir;
+}
+
+inline nlohmann::json trainAndReadMetrics(const std::string& dataset, const std::string& run, const std::string& options) {
+  CliResult r = runCli("train " + dataset + " -o " + run + " " + options);
+  INFO(r.output);
+  REQUIRE(r.exitCode == 0);
+  return readJson(run + "/metrics.json");
+}
+
+}  // namespace refrax::test

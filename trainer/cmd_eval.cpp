@@ -1,0 +1,42 @@
+// refrax eval RUN -o metrics.json: a trained run's metrics against a dataset (the run's own,
+// or --dataset DIR): test PSNR/SSIM, surface RMSE against the ground truth, water-removal PSNR.
+#include <cstdio>
+
+#include "engine/error.h"
+#include "engine/io/json_io.h"
+#include "engine/train/render_run.h"
+#include "engine/train/train_run.h"
+#include "engine/vk_context.h"
+#include "trainer/cli.h"
+
+namespace refrax {
+namespace {
+
+int runEval(const cli::Args& args) {
+  if (args.positional.size() != 1) fail("refrax eval needs one run folder");
+  if (!args.has("output")) fail("refrax eval needs -o metrics.json");
+  std::string run = args.positional[0];
+  TrainConfig config = readRunConfig(run);
+  std::optional<Dataset> other;
+  if (args.has("dataset")) other = loadDataset(args.get("dataset"), config.datasetOptions);
+  auto ctx = cli::openContext(args);
+  auto session = openRun(*ctx, run);
+  nlohmann::json m = evaluateSession(*session, other ? *other : session->dataset, "");
+  m["dataset"] = other ? other->root : session->dataset.root;
+  writeJson(args.get("output"), m);
+  std::printf("%s\n", m.dump(2).c_str());
+  return 0;
+}
+
+std::vector<cli::Option> evalOptions() {
+  std::vector<cli::Option> o = {{"output", "FILE", "metrics JSON to write (-o)", ""},
+                                {"dataset", "DIR", "dataset to evaluate against (default: the run's)", ""}};
+  for (auto& d : cli::deviceOptions()) o.push_back(d);
+  return o;
+}
+
+REFRAX_COMMAND({"eval", "metrics of a trained run against a dataset's test split and ground-truth surface",
+                "refrax eval RUN -o metrics.json [--dataset DIR]", evalOptions(), runEval});
+
+}  // namespace
+}  // namespace refrax

@@ -1,0 +1,124 @@
+// refrax render RUN -o DIR: renders a trained run's views (a dataset split or one look-at
+// camera) with the learned water kept, removed, or swapped for a built-in surface.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "engine/builtin_surfaces.h"
+#include "engine/error.h"
+#include "engine/io/image_io.h"
+#include "engine/train/render_run.h"
+#include "engine/train/train_run.h"
+#include "engine/vk_context.h"
+#include "trainer/cli.h"
+
+namespace refrax {
+namespace {
+
+std::vector<double> parseList(const std::string& text, size_t count, const char* option) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    double d = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end || !std::isfinite(d)) fail(std::string("--") + option + " expects " + std::to_string(count) + " comma-separated numbers");
+    v.push_back(d);
+  }
+  if (v.size() != count) fail(std::string("--") + option + " expects " + std::to_string(count) + " comma-separated numbers");
+  return v;
+}
+
+// flat[:HEIGHT] or sine[:HEIGHT:AMPLITUDE:WAVELENGTH:DIRECTION_DEG] (engine/builtin_surfaces.h)
+// as the closed-form surface the tracer lifts.
+AnalyticWaves builtinWaves(const std::string& spec, double defaultHeight) {
+  std::vector<std::string> parts;
+  std::stringstream ss(spec);
+  std::string item;
+  while (std::getline(ss, item, ':')) parts.push_back(item);
+  BuiltinSurface b;
+  b.kind = parts[0];
+  b.height = float(defaultHeight);
+  auto num = [&](size_t i, float& field) {
+    if (parts.size() <= i) return;
+    char* end = nullptr;
+    double d = std::strtod(parts[i].c_str(), &end);
+    if (parts[i].empty() || *end || !std::isfinite(d)) fail("--water " + spec + ": '" + parts[i] + "' is not a number");
+    field = float(d);
+  };
+  num(1, b.height);
+  num(2, b.amplitude);
+  num(3, b.wavelength);
+  num(4, b.directionDeg);
+  if (b.kind != "flat" && b.kind != "sine")
+    fail("--water must be keep, remove, flat[:height] or sine[:height:amplitude:wavelength:direction] (got '" + spec + "')");
+  surfaceHeightFunction(b);  // validates the wavelength
+  AnalyticWaves w;
+  w.base = b.height;
+  if (b.kind == "sine") {
+    double k = 2 * M_PI / b.wavelength, a = b.directionDeg * M_PI / 180;
+    w.waves[0][0] = b.amplitude;
+    w.waves[0][1] = float(k * std::cos(a));
+    w.waves[0][2] = float(k * std::sin(a));
+  }
+  return w;
+}
+
+int runRender(const cli::Args& args) {
+  namespace fs = std::filesystem;
+  if (args.positional.size() != 1) fail("refrax render needs one run folder");
+  if (!args.has("output")) fail("refrax render needs -o DIR");
+  std::string run = args.positional[0], out = args.get("output");
+  std::string water = args.get("water", "keep");
+  TrainConfig config = readRunConfig(run);
+  WaterView mode = water == "keep" ? WaterView::Keep : water == "remove" ? WaterView::Remove : WaterView::Swap;
+  std::optional<AnalyticWaves> waves;
+  if (mode == WaterView::Swap) waves = builtinWaves(water, config.waterHeight);
+  std::vector<std::pair<std::string, Camera>> cameras;
+  bool single = args.has("camera");
+  std::string split = args.get("split", "test");
+  auto ctx = cli::openContext(args);
+  auto session = openRun(*ctx, run);
+  if (single) {
+    auto v = parseList(args.get("camera"), 6, "camera");
+    long w = args.getInt("width", 256), h = args.getInt("height", 256);
+    if (w <= 0 || h <= 0 || w > 8192 || h > 8192) fail("--width/--height must be between 1 and 8192");
+    double fov = args.getDouble("fov", 45.0);
+    cameras.push_back({"camera.png", lookAtCamera({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, int(w), int(h), fov * M_PI / 180)});
+  } else {
+    const auto& views = session->dataset.split(split);
+    for (size_t i = 0; i < views.size(); i++) {
+      char name[48];
+      std::snprintf(name, sizeof name, "%s_%03zu.png", split.c_str(), i);
+      cameras.push_back({name, views[i].camera});
+    }
+  }
+  std::optional<AnalyticHeightField> swap;
+  if (waves) swap.emplace(createAnalyticHeightField(*ctx, *waves));
+  fs::create_directories(out);
+  for (const auto& [name, cam] : cameras) {
+    RenderedView r = renderView(*session, cam, mode, swap ? &*swap : nullptr);
+    writePng((fs::path(out) / name).string(), r.image);
+    std::printf("wrote %s\n", (fs::path(out) / name).string().c_str());
+  }
+  return 0;
+}
+
+std::vector<cli::Option> renderOptions() {
+  std::vector<cli::Option> o = {{"output", "DIR", "folder for the PNGs (-o)", ""},
+                                {"split", "NAME", "dataset split to render (test, train, air, ...)", "test"},
+                                {"camera", "x,y,z,tx,ty,tz", "one look-at camera instead of a split (world up +z)", ""},
+                                {"width", "PIXELS", "image width with --camera", "256"},
+                                {"height", "PIXELS", "image height with --camera", "256"},
+                                {"fov", "DEG", "vertical field of view with --camera", "45"},
+                                {"water", "MODE", "keep, remove, flat[:height] or sine[:height:amplitude:wavelength:direction]", "keep"}};
+  for (auto& d : cli::deviceOptions()) o.push_back(d);
+  return o;
+}
+
+REFRAX_COMMAND({"render", "render a trained run with the water kept, removed or swapped", "refrax render RUN -o DIR [options]",
+                renderOptions(), runRender});
+
+}  // namespace
+}  // namespace refrax

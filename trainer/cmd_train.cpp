@@ -1,0 +1,168 @@
+// refrax train <dataset> -o RUN: jointly optimises the water surface (a neural height field)
+// and the Gaussians under it (engine/train/). --no-refraction and --flat-water train the
+// comparison models on the same data. --resume RUN continues from the newest checkpoint.
+#include <cstdio>
+#include <filesystem>
+
+#include "engine/dataset/dataset.h"
+#include "engine/error.h"
+#include "engine/io/json_io.h"
+#include "engine/train/checkpoint.h"
+#include "engine/train/train_run.h"
+#include "engine/vk_context.h"
+#include "trainer/cli.h"
+#include "trainer/dataset_options.h"
+
+namespace refrax {
+namespace {
+
+uint32_t positiveCount(const cli::Args& a, const char* name, long fallback, long lo, long hi) {
+  long v = a.getInt(name, fallback);
+  if (v < lo || v > hi) fail(std::string("--") + name + " must be between " + std::to_string(lo) + " and " + std::to_string(hi));
+  return uint32_t(v);
+}
+
+void scheduleOption(const cli::Args& a, const char* name, int& field) {
+  if (!a.has(name)) return;
+  long v = a.getInt(name, 0);
+  if (v < 0 || v > 100000000) fail(std::string("--") + name + " must be a step count >= 0");
+  field = int(v);
+}
+
+TrainConfig configFromArgs(const cli::Args& a) {
+  TrainConfig c;
+  c.datasetOptions = datasetOptionsFrom(a);
+  if (a.has("no-refraction") && a.has("flat-water")) fail("--no-refraction and --flat-water exclude each other");
+  c.model = a.has("no-refraction") ? WaterModel::NoRefraction : a.has("flat-water") ? WaterModel::FlatWater : WaterModel::Refraction;
+  c.steps = int(positiveCount(a, "steps", 15000, 1, 10000000));
+  c.seed = uint64_t(a.getInt("seed", 1));
+  c.initialGaussians = positiveCount(a, "gaussians", 20000, 1, 50000000);
+  c.maxGaussians = positiveCount(a, "max-gaussians", std::max<long>(1000000, c.initialGaussians), 1, 100000000);
+  c.initialDensity = a.getDouble("initial-density", 0.1);
+  c.maxShDegree = positiveCount(a, "sh-degree", 3, 0, 3);
+  c.kBuffer = positiveCount(a, "k-buffer", 16, 1, 64);
+  c.proxy = a.get("proxy", "auto");
+  c.mlpWidth = positiveCount(a, "mlp-width", 64, 1, 256);
+  c.mlpHiddenLayers = positiveCount(a, "mlp-layers", 3, 1, 8);
+  c.mlpOctaves = positiveCount(a, "mlp-octaves", 6, 0, 16);
+  c.mlpInitRange = a.getDouble("mlp-init-range", 1e-3);
+  c.gridCells = positiveCount(a, "grid-cells", 64, 1, 4096);
+  c.subdivisionLevels = positiveCount(a, "subdivision", 2, 0, 6);
+  c.patch = positiveCount(a, "patch", 0, 0, 16384);
+  c.densityDecay = a.getDouble("density-decay", 0.99);
+  scheduleOption(a, "surface-freeze", c.schedule.surfaceFreeze);
+  scheduleOption(a, "face-normals-until", c.schedule.faceNormalsUntil);
+  scheduleOption(a, "sh-interval", c.schedule.shDegreeInterval);
+  scheduleOption(a, "density-reset-every", c.schedule.densityResetInterval);
+  scheduleOption(a, "density-reset-until", c.schedule.densityResetUntil);
+  scheduleOption(a, "density-decay-every", c.schedule.densityDecayInterval);
+  scheduleOption(a, "densify-from", c.schedule.densifyFrom);
+  scheduleOption(a, "densify-every", c.schedule.densifyInterval);
+  scheduleOption(a, "densify-until", c.schedule.densifyUntil);
+  scheduleOption(a, "lr-steps", c.schedule.lrSteps);
+  scheduleOption(a, "prune-every", c.schedule.pruneInterval);
+  scheduleOption(a, "prune-large-from", c.schedule.pruneLargeFrom);
+  c.densify = !a.has("no-densify");
+  c.densifyGradThreshold = a.getDouble("densify-grad", 3e-4);
+  c.progressEvery = int(positiveCount(a, "progress-every", 50, 1, 100000000));
+  c.evalEvery = int(positiveCount(a, "eval-every", 0, 0, 100000000));
+  c.checkpointEvery = int(positiveCount(a, "checkpoint-every", 500, 0, 100000000));
+  return c;
+}
+
+void printSummary(const nlohmann::json& m) {
+  std::printf("test psnr %.3f  ssim %.4f", m["psnr"].get<double>(), m["ssim"].get<double>());
+  if (m.contains("surface_rmse")) std::printf("  surface rmse %.5f (initial flat %.5f)", m["surface_rmse"].get<double>(), m["initial_flat_surface_rmse"].get<double>());
+  if (m.contains("water_removal_psnr")) std::printf("  water-removal psnr %.3f", m["water_removal_psnr"].get<double>());
+  std::printf("  gaussians %llu  %.1f s\n", (unsigned long long)m["gaussians"].get<uint64_t>(), m["training_seconds"].get<double>());
+}
+
+int runTrain(const cli::Args& args) {
+  namespace fs = std::filesystem;
+  TrainProgress progress;
+  progress.line = [](const std::string& text) { std::fprintf(stderr, "%s\n", text.c_str()); };
+  if (args.has("resume")) {
+    if (!args.positional.empty() || args.has("output")) fail("--resume RUN takes no dataset and no -o: the run folder holds both");
+    std::string run = args.get("resume");
+    readRunConfig(run);
+    std::string ckpt = latestCheckpoint(run);
+    if (ckpt.empty()) fail(run + " has no checkpoint to resume from");
+    verifyCheckpointFile(ckpt);
+    auto ctx = cli::openContext(args);
+    auto session = openRun(*ctx, run);
+    std::fprintf(stderr, "resuming %s at step %d of %d\n", run.c_str(), session->step, session->config.steps);
+    printSummary(trainToEnd(*session, run, progress));
+    return 0;
+  }
+  if (args.positional.size() != 1) fail("refrax train needs one dataset folder");
+  if (!args.has("output")) fail("refrax train needs -o RUN (the output folder)");
+  std::string run = args.get("output");
+  std::error_code ec;
+  if (fs::exists(run, ec) && !(fs::is_directory(run, ec) && fs::is_empty(run, ec)))
+    fail(run + " already exists and is not empty (use --resume " + run + " to continue it, or another folder)");
+
+  TrainConfig config = configFromArgs(args);
+  config.dataset = fs::absolute(args.positional[0]).lexically_normal().string();
+  Dataset dataset = loadDataset(config.dataset, config.datasetOptions);
+  resolveSceneConfig(config, dataset);
+  auto ctx = cli::openContext(args);
+  auto session = createTrainSession(*ctx, config, std::move(dataset));
+  // Everything checked: the run folder appears only now.
+  fs::create_directories(run);
+  writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->config));
+  std::fprintf(stderr, "training %s (%s): %u Gaussians, %d steps, %zu training views -> %s\n", config.dataset.c_str(),
+               waterModelName(config.model), config.initialGaussians, config.steps, session->dataset.split("train").size(), run.c_str());
+  printSummary(trainToEnd(*session, run, progress));
+  return 0;
+}
+
+std::vector<cli::Option> trainOptions() {
+  std::vector<cli::Option> o = {
+      {"output", "RUN", "output folder (-o); must not exist or be empty", ""},
+      {"resume", "RUN", "continue RUN from its newest checkpoint", ""},
+      {"no-refraction", "", "comparison: plain 3DGRT, straight rays, no water surface", ""},
+      {"flat-water", "", "comparison: a flat water plane whose only parameter, its height, is learned", ""},
+      {"steps", "N", "training steps (one training image or patch each)", "15000"},
+      {"seed", "S", "random seed (initial Gaussians, height field, view order, patches)", "1"},
+      {"gaussians", "N", "initial Gaussians, uniform in the box derived under the water", "20000"},
+      {"max-gaussians", "N", "cap on the Gaussian count (enforced by densification)", "1000000"},
+      {"initial-density", "X", "initial Gaussian density", "0.1"},
+      {"sh-degree", "D", "highest SH degree (reached one degree per --sh-interval steps)", "3"},
+      {"k-buffer", "K", "tracer k-buffer size", "16"},
+      {"proxy", "KIND", "Gaussian proxies: aabb, instanced or auto", "auto"},
+      {"mlp-width", "W", "height-field MLP width", "64"},
+      {"mlp-layers", "L", "height-field MLP hidden layers", "3"},
+      {"mlp-octaves", "O", "height-field frequency-encoding octaves", "6"},
+      {"mlp-init-range", "X", "height-field last layer initialised in +-X (reference 0.1)", "0.001"},
+      {"grid-cells", "N", "water-surface proxy mesh cells per side", "64"},
+      {"subdivision", "K", "recursive subdivision levels of the surface trace", "2"},
+      {"patch", "P", "train on one random P x P patch per step (0: whole images); ~P^2/(w h) of the time per step", "0"},
+      {"density-decay", "X", "density multiplier every --density-decay-every steps", "0.99"},
+      {"surface-freeze", "N", "surface frozen for the first N steps", "1000 x steps/15000"},
+      {"face-normals-until", "N", "flat face normals until step N, then interpolated", "7500 x steps/15000"},
+      {"sh-interval", "N", "SH degree +1 every N steps", "1000 x steps/15000"},
+      {"density-reset-every", "N", "density reset to <= 0.01 every N steps (part of densification: only when it runs)", "max(1000, 3000 x steps/15000)"},
+      {"density-reset-until", "N", "no density reset from step N", "12000 x steps/15000"},
+      {"density-decay-every", "N", "density decay every N steps", "50"},
+      {"densify-from", "N", "densification from step N", "500 x steps/15000"},
+      {"densify-every", "N", "densification every N steps", "max(100, 300 x steps/15000)"},
+      {"densify-until", "N", "densification until step N", "12000 x steps/15000"},
+      {"no-densify", "", "no clone/split/prune (and no density reset)", ""},
+      {"densify-grad", "X", "clone/split threshold on the mean positional-gradient statistic", "3e-4"},
+      {"prune-every", "N", "prune low-density Gaussians every N steps (densify-from..densify-until)", "100"},
+      {"prune-large-from", "N", "also prune Gaussians larger than 10% of the extent from step N", "3000 x steps/15000"},
+      {"lr-steps", "N", "length of the decaying learning-rate schedules", "30000 x steps/15000"},
+      {"progress-every", "N", "progress line every N steps (stderr)", "50"},
+      {"eval-every", "N", "test-split evaluation every N steps (0: at the end only)", "0"},
+      {"checkpoint-every", "N", "checkpoint every N steps (0: at the end only)", "500"},
+  };
+  for (auto& d : datasetOptions()) o.push_back(d);
+  for (auto& d : cli::deviceOptions()) o.push_back(d);
+  return o;
+}
+
+REFRAX_COMMAND({"train", "jointly optimise the water surface and the Gaussians under it", "refrax train <dataset> -o RUN [options] | refrax train --resume RUN",
+                trainOptions(), runTrain});
+
+}  // namespace
+}  // namespace refrax
