@@ -80,24 +80,6 @@ void probeGaussians(int n, std::vector<BenchGaussian>& gs, std::vector<Box>& box
   }
 }
 
-// Runs the probe and returns its RESULT lines as name -> first number.
-std::map<std::string, double> runProbe(const std::string& probe, const std::string& args) {
-  std::string dir = probe.substr(0, probe.find_last_of('/') + 1);
-  std::string cmd = "cd '" + (dir.empty() ? std::string(".") : dir) + "' && SPV_DIR=shaders '" + probe + "' " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) fail("cannot run the probe " + probe);
-  std::map<std::string, double> out;
-  char line[1024];
-  while (std::fgets(line, sizeof line, p)) {
-    char name[256];
-    double v;
-    if (std::sscanf(line, "RESULT %255s %lf", name, &v) == 2) out[name] = v;
-  }
-  int rc = pclose(p);
-  if (rc != 0) fail("the probe failed (" + cmd + ")");
-  return out;
-}
-
 double traceMs(Context& ctx, int runs, const std::function<void(VkCommandBuffer)>& record) {
   return bench::medianMs(1, runs, [&] { submitAndWait(ctx, record); });
 }
@@ -196,8 +178,8 @@ int runBenchRays(const cli::Args& args) {
     for (int i = 0; i < 2; i++) boxMs[i] = std::min(boxMs[i], traceBoxes(boxScenes[i]));
     if (!probe.empty()) {
       if (size != 400) fail("--probe compares at the probe's 400x400 only");
-      for (auto& kv : runProbe(probe, "tri")) probeBest[kv.first] = std::max(probeBest[kv.first], kv.second);
-      for (auto& kv : runProbe(probe, "aabb 10000 100000")) probeBest[kv.first] = std::max(probeBest[kv.first], kv.second);
+      for (auto& kv : bench::runProbe(probe, "tri")) probeBest[kv.first] = std::max(probeBest[kv.first], kv.second);
+      for (auto& kv : bench::runProbe(probe, "aabb 10000 100000")) probeBest[kv.first] = std::max(probeBest[kv.first], kv.second);
     }
   }
 

@@ -79,29 +79,6 @@ Timing timeRuns(int runs, const std::function<void()>& once) {
   return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
 }
 
-std::map<std::string, double> runProbe(const std::string& probe, const std::string& args) {
-  std::string dir = probe.substr(0, probe.find_last_of('/') + 1);
-  std::string cmd = "cd '" + (dir.empty() ? std::string(".") : dir) +
-                    "' && VK_ICD_FILENAMES=${VK_ICD_FILENAMES:-/usr/share/vulkan/icd.d/lvp_icd.json} SPV_DIR=shaders '" + probe + "' " + args +
-                    " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) fail("cannot run the probe " + probe);
-  std::map<std::string, double> out;
-  char line[1024];
-  while (std::fgets(line, sizeof line, p)) {
-    char name[256];
-    double v;
-    if (std::sscanf(line, "RESULT %255s %lf", name, &v) == 2) out[name] = v;
-    // the k-buffer lines also give the process CPU time of the median run
-    std::string l(line);
-    size_t cpu = l.find("cpu ");
-    if (cpu != std::string::npos && l.find("k-buffer K=16") != std::string::npos)
-      out[l.find("commit") != std::string::npos ? "kbuf_commit_cpu_ms" : "kbuf_cpu_ms"] = std::atof(l.c_str() + cpu + 4);
-  }
-  if (pclose(p) != 0) fail("the probe failed (" + cmd + ")");
-  return out;
-}
-
 std::vector<int> parseCounts(const std::string& s) {
   std::vector<int> out;
   std::stringstream ss(s);
@@ -227,8 +204,8 @@ int runBenchTracer(const cli::Args& args) {
             probeBest[kv.first] = time ? std::min(probeBest[kv.first], kv.second) : std::max(probeBest[kv.first], kv.second);
           }
         };
-        keep(runProbe(probe, "aabb " + std::to_string(n)));
-        keep(runProbe(probe, "water " + std::to_string(n)));
+        keep(bench::runProbe(probe, "aabb " + std::to_string(n)));
+        keep(bench::runProbe(probe, "water " + std::to_string(n)));
       }
     }
     std::string key = "aabb" + std::to_string(n) + "s_kbuf_PREFER_FAST_TRACE_Mrays";
