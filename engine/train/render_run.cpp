@@ -48,13 +48,7 @@ RenderedView renderView(TrainSession& s, const Camera& camera, WaterView water, 
     source = currentHeightSource(s);
   } else if (water == WaterView::Swap) {
     if (!swap) fail("render: no surface to swap in");
-    WaterSurfaceConfig wc;
-    wc.domain = SurfaceDomain{float(s.config.domain.xMin), float(s.config.domain.yMin), float(s.config.domain.xMax), float(s.config.domain.yMax)};
-    wc.gridCells = s.config.gridCells;
-    wc.subdivisionLevels = s.config.subdivisionLevels;
-    wc.ior = float(s.config.ior);
-    wc.maxRays = s.capacity;
-    swapped.emplace(createWaterSurface(ctx, wc));
+    swapped.emplace(createWaterSurface(ctx, surfaceConfigFor(s)));
     surface = &*swapped;
     source = heightSource(*swap);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *surface, source); });

@@ -45,13 +45,7 @@ void allocateGaussianBuffers(TrainSession& s) {
 }
 
 void createSurface(TrainSession& s) {
-  WaterSurfaceConfig wc;
-  wc.domain = SurfaceDomain{float(s.config.domain.xMin), float(s.config.domain.yMin), float(s.config.domain.xMax), float(s.config.domain.yMax)};
-  wc.gridCells = s.config.gridCells;
-  wc.subdivisionLevels = s.config.subdivisionLevels;
-  wc.ior = float(s.config.ior);
-  wc.maxRays = s.capacity;
-  s.surface.emplace(createWaterSurface(*s.ctx, wc));
+  s.surface.emplace(createWaterSurface(*s.ctx, surfaceConfigFor(s)));
   HeightSource src = currentHeightSource(s);
   submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, src); });
 }
@@ -373,6 +367,16 @@ StepResult trainStep(TrainSession& s) {
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");
   s.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
+}
+
+WaterSurfaceConfig surfaceConfigFor(const TrainSession& s) {
+  WaterSurfaceConfig wc;
+  wc.domain = SurfaceDomain{float(s.config.domain.xMin), float(s.config.domain.yMin), float(s.config.domain.xMax), float(s.config.domain.yMax)};
+  wc.gridCells = s.config.gridCells;
+  wc.subdivisionLevels = s.config.subdivisionLevels;
+  wc.ior = float(s.config.ior);
+  wc.maxRays = s.capacity;
+  return wc;
 }
 
 }  // namespace refrax

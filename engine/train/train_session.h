@@ -91,6 +91,9 @@ struct TrainSession {
 
 // Loads nothing: `dataset` and `config` (resolved) are given. Initialises the Gaussians,
 // the height field and the surface from config.seed.
+// The proxy-surface configuration of this session (domain, grid, levels, IOR, ray capacity).
+WaterSurfaceConfig surfaceConfigFor(const TrainSession& s);
+
 std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig& config, Dataset dataset);
 
 // One optimisation step (advances session.step).
