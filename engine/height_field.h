@@ -93,6 +93,9 @@ HeightField loadHeightField(Context& ctx, const std::string& path);  // refrax::
 double heightReference(const HeightFieldConfig& config, const std::vector<double>& weights, double x, double y);
 void heightReferenceGradient(const HeightFieldConfig& config, const std::vector<double>& weights, double x, double y,
                              std::vector<double>& dHdWeights);
+// Smallest |pre-activation| over every hidden unit at (x, y): how far the point is from a
+// leaky-ReLU kink. Finite differences are only valid for points where a step cannot cross one.
+double heightReferenceKinkDistance(const HeightFieldConfig& config, const std::vector<double>& weights, double x, double y);
 // The initial weights createHeightField uploads for `seed`.
 std::vector<float> initialHeightWeights(const HeightFieldConfig& config, uint32_t seed);
 

@@ -1,5 +1,6 @@
 // CPU double-precision reference of the height field: forward, and the analytic gradient
 // with respect to every weight (backpropagation written out plainly, one point at a time).
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -51,7 +52,9 @@ void checkWeights(const HeightFieldConfig& c, const std::vector<double>& w) {
 }
 
 // acts[l] = input of weight layer l (acts[0] the encoding), l = 0..hidden; returns the output.
-double forwardAll(const HeightFieldConfig& c, const std::vector<double>& w, double x, double y, std::vector<std::vector<double>>& acts) {
+// kink (optional) receives the smallest |pre-activation| of any hidden unit.
+double forwardAll(const HeightFieldConfig& c, const std::vector<double>& w, double x, double y, std::vector<std::vector<double>>& acts,
+                  double* kink = nullptr) {
   Layers L = layersOf(c);
   f64::real2 u = f64::heightDomainToUnit(f64::real2(x, y), f64::real2(c.domainMin[0], c.domainMin[1]),
                                          f64::real2(c.domainMax[0], c.domainMax[1]));
@@ -64,6 +67,7 @@ double forwardAll(const HeightFieldConfig& c, const std::vector<double>& w, doub
     for (uint32_t j = 0; j < L.width; j++) {
       double s = 0;
       for (uint32_t k = 0; k < L.fanIn(l); k++) s += W[uint64_t(j) * L.fanIn(l) + k] * acts[l][k];
+      if (kink) *kink = std::min(*kink, std::fabs(s));
       acts[l + 1][j] = f64::heightLeakyRelu(s, double(c.leakySlope));
     }
   }
@@ -79,6 +83,14 @@ double heightReference(const HeightFieldConfig& config, const std::vector<double
   checkWeights(config, weights);
   std::vector<std::vector<double>> acts;
   return forwardAll(config, weights, x, y, acts);
+}
+
+double heightReferenceKinkDistance(const HeightFieldConfig& config, const std::vector<double>& weights, double x, double y) {
+  checkWeights(config, weights);
+  std::vector<std::vector<double>> acts;
+  double kink = INFINITY;
+  forwardAll(config, weights, x, y, acts, &kink);
+  return kink;
 }
 
 void heightReferenceGradient(const HeightFieldConfig& config, const std::vector<double>& weights, double x, double y,
