@@ -17,6 +17,7 @@ namespace {
 struct TracePush {
   float background[4];
   uint32_t count, shDegree, maxRounds, pad;
+  float statViewpoint[4];  // backward only
 };
 struct PreparePush {
   uint32_t count, instanced;
@@ -84,6 +85,10 @@ TracePush tracePush(uint32_t count, const TraceOptions& o) {
   push.count = count;
   push.shDegree = o.shDegree;
   push.maxRounds = std::max(o.maxRounds, 1u);
+  if (o.statisticsViewpoint) {
+    for (int a = 0; a < 3; a++) push.statViewpoint[a] = (*o.statisticsViewpoint)[a];
+    push.statViewpoint[3] = 1.0f;
+  }
   if (o.shDegree > 3) fail("SH degree " + std::to_string(o.shDegree) + " is above 3");
   return push;
 }

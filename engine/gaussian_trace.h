@@ -4,6 +4,9 @@
 // or rays refracted at the water surface) and its backward to per-Gaussian gradients and
 // per-ray dL/d(origin, direction).
 #include <cstdint>
+#include <optional>
+
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
 
@@ -41,6 +44,11 @@ struct TraceOptions {
   float background[3] = {0, 0, 0};
   uint32_t shDegree = 3;
   uint32_t maxRounds = 1u << 20;  // a safety net only: every round makes progress
+  // Backward: the densification statistic weighs |dL/dmean| by the distance from the camera
+  // (3DGS's thresholds are for that). Refracted rays start at the water, so a trainer gives
+  // the camera position here and distances run from it to the ray's origin, then along the
+  // ray. Unset: from the ray's origin.
+  std::optional<glm::vec3> statisticsViewpoint;
 };
 
 // Pipelines, compiled on first use (lavapipe JIT-compiles each one).

@@ -138,12 +138,14 @@ TEST_CASE("Gaussian tracer reference: analytic gradient matches central differen
 
 namespace {
 
-void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind kind, bool cas) {
+void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind kind, bool cas, bool viewpoint) {
   GaussianSet set = randomGaussians(rng, 1000, testGaussianOptions());
   std::vector<double> params = ref::toDouble(set);
   TraceOptions opt;
   std::uniform_real_distribution<float> U(-1.0f, 1.0f);
   for (int c = 0; c < 3; c++) opt.background[c] = 0.5f + 0.5f * U(rng);
+  // Statistics measured from a viewpoint behind the rays' origins (as for refracted rays), or from the origins.
+  if (viewpoint) opt.statisticsViewpoint = glm::vec3(U(rng), U(rng), 3.0f + U(rng));
   ref::TraceOptionsD optD = toOptionsD(opt);
   auto rays = unambiguousRays(rng, params, 600, 1e-4, optD);
   REQUIRE(rays.size() == 600);
@@ -168,7 +170,7 @@ void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind ki
   for (auto& r : gpu.rays)
     for (int a = 0; a < 3; a++) nan += std::isnan(r.dOrigin[a]) + std::isnan(r.dDir[a]);
   CHECK(nan == 0);
-  INFO(std::string(proxyKindName(kind)) << (cas ? ", compare-and-swap atomics" : ", float atomicAdd"));
+  INFO(std::string(proxyKindName(kind)) << (cas ? ", compare-and-swap atomics" : ", float atomicAdd") << (viewpoint ? ", statistics from a viewpoint" : ""));
   for (const Group& g : kGroups) {
     GroupError e = groupError(set.count(), g, [&](size_t i) { return gpu.params[i]; }, [&](size_t i) { return want[i]; });
     INFO(std::string(g.name) << ": worst diff " << e.worstDiff << ", largest " << e.largest);
@@ -202,16 +204,16 @@ void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind ki
 }  // namespace
 
 GPU_TEST_CASE("Gaussian backward matches the reference: AABB BLAS, float atomics") {
-  checkBackwardAgainstReference(ctx, rng, ProxyKind::AabbBlas, false);
+  checkBackwardAgainstReference(ctx, rng, ProxyKind::AabbBlas, false, true);
 }
 GPU_TEST_CASE("Gaussian backward matches the reference: instanced proxies, float atomics") {
-  checkBackwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox, false);
+  checkBackwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox, false, false);
 }
 GPU_TEST_CASE("Gaussian backward matches the reference: AABB BLAS, compare-and-swap atomics") {
-  checkBackwardAgainstReference(ctx, rng, ProxyKind::AabbBlas, true);
+  checkBackwardAgainstReference(ctx, rng, ProxyKind::AabbBlas, true, false);
 }
 GPU_TEST_CASE("Gaussian backward matches the reference: instanced proxies, compare-and-swap atomics") {
-  checkBackwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox, true);
+  checkBackwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox, true, true);
 }
 
 GPU_TEST_CASE("Gaussian backward refuses a non-finite loss gradient") {

@@ -119,6 +119,8 @@ RayGradD traceRayBackwardRef(const std::vector<double>& p, const RayD& ray, cons
   real3 C(fwd.rgb[0], fwd.rgb[1], fwd.rgb[2]), gC(dLoss[0], dLoss[1], dLoss[2]);
   double gA = dLoss[3], Tfinal = fwd.transmittance, T = 1;
   real3 Cprefix(0), dOrigin(0), dDir(0), dDirUnit(0);
+  const double* vp = options.statisticsViewpoint;
+  double distanceBefore = options.useStatisticsViewpoint ? length(o - real3(vp[0], vp[1], vp[2])) : 0.0;
   for (const HitD& h : hits) {
     double* g = dParams.data() + size_t(h.id) * kGaussFloats;
     const double* pg = p.data() + size_t(h.id) * kGaussFloats;
@@ -157,7 +159,7 @@ RayGradD traceRayBackwardRef(const std::vector<double>& p, const RayD& ray, cons
       g[kGaussLogitDensity] += dAlpha * kernel * G.density * (1 - G.density);
       dOrigin += dp;
       dDir += dw;
-      if (stats) (*stats)[2 * h.id] += length(dp) * t * length(d) * 0.5;
+      if (stats) (*stats)[2 * h.id] += length(dp) * (distanceBefore + t * length(d)) * 0.5;
     }
     if (stats) (*stats)[2 * h.id + 1] += 1;
     T *= oneMinus;

@@ -22,6 +22,8 @@ RayD toRayD(const GpuRay& r);
 struct TraceOptionsD {
   double background[3] = {0, 0, 0};
   uint32_t shDegree = 3;
+  bool useStatisticsViewpoint = false;  // TraceOptions::statisticsViewpoint
+  double statisticsViewpoint[3] = {0, 0, 0};
 };
 
 struct TraceResultD {

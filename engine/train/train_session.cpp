@@ -260,6 +260,8 @@ StepResult trainStep(TrainSession& s) {
   TraceOptions opt;
   for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(c.datasetOptions.background[ch]);
   opt.shDegree = shDegreeAt(c, t);
+  // Densification statistics from the camera, not from where refracted rays start (the water).
+  opt.statisticsViewpoint = glm::vec3(cam.cameraToWorld[3]);
 
   static bool timing = std::getenv("REFRAX_TRAIN_TIMING") != nullptr;
   auto mark = [&, last = std::chrono::steady_clock::now()](const char* what) mutable {

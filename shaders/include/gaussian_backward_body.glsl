@@ -38,6 +38,7 @@ layout(push_constant) uniform Push {
   uint shDegree;
   uint maxRounds;
   uint pad;
+  vec4 statViewpoint;  // w = 1: statistics distances start at this point (TraceOptions::statisticsViewpoint)
 } pc;
 #include "gaussian_kbuffer.glsl"
 
@@ -83,6 +84,7 @@ void main() {
   vec3 dOrigin = vec3(0.0), dDir = vec3(0.0), dDirUnit = vec3(0.0);
   vec3 Cprefix = vec3(0.0);
   float T = 1.0, tcur = ray.originTmin.w;
+  float distanceBefore = pc.statViewpoint.w > 0.5 ? distance(pc.statViewpoint.xyz, o) : 0.0;
   uint idcur = 0xFFFFFFFFu, rounds = 0u;
   for (;;) {
     rounds++;
@@ -139,8 +141,8 @@ void main() {
         addGrad(b + kGaussLogitDensity, dAlpha * kernel * density * (1.0 - density));
         dOrigin += dp;
         dDir += dw;
-        // densification statistics: |dL/dmean| times the distance along the ray, halved (3DGRT)
-        addStat(2u * id, length(dp) * t * length(d) * 0.5);
+        // densification statistics: |dL/dmean| times the distance from the viewpoint, halved (3DGRT)
+        addStat(2u * id, length(dp) * (distanceBefore + t * length(d)) * 0.5);
       }
       addStat(2u * id + 1u, 1.0);
       T *= oneMinus;
