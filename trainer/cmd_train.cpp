@@ -1,6 +1,7 @@
 // refrax train <dataset> -o RUN: jointly optimises the water surface (a neural height field)
 // and the Gaussians under it (engine/train/). --no-refraction and --flat-water train the
-// comparison models on the same data. --resume RUN continues from the newest checkpoint.
+// comparison models on the same data, --known-water the oracle (the true surface, fixed).
+// --resume RUN continues from the newest checkpoint.
 #include <cstdio>
 #include <filesystem>
 
@@ -32,8 +33,12 @@ void scheduleOption(const cli::Args& a, const char* name, int& field) {
 TrainConfig configFromArgs(const cli::Args& a) {
   TrainConfig c;
   c.datasetOptions = datasetOptionsFrom(a);
-  if (a.has("no-refraction") && a.has("flat-water")) fail("--no-refraction and --flat-water exclude each other");
-  c.model = a.has("no-refraction") ? WaterModel::NoRefraction : a.has("flat-water") ? WaterModel::FlatWater : WaterModel::Refraction;
+  if (a.has("no-refraction") + a.has("flat-water") + a.has("known-water") > 1)
+    fail("--no-refraction, --flat-water and --known-water exclude each other");
+  c.model = a.has("no-refraction") ? WaterModel::NoRefraction
+            : a.has("flat-water")  ? WaterModel::FlatWater
+            : a.has("known-water") ? WaterModel::KnownWater
+                                   : WaterModel::Refraction;
   c.steps = int(positiveCount(a, "steps", 15000, 1, 10000000));
   c.seed = uint64_t(a.getInt("seed", 1));
   c.initialGaussians = positiveCount(a, "gaussians", 20000, 1, 50000000);
@@ -122,6 +127,7 @@ std::vector<cli::Option> trainOptions() {
       {"resume", "RUN", "continue RUN from its newest checkpoint", ""},
       {"no-refraction", "", "comparison: plain 3DGRT, straight rays, no water surface", ""},
       {"flat-water", "", "comparison: a flat water plane whose only parameter, its height, is learned", ""},
+      {"known-water", "", "oracle: the dataset's ground-truth surface (water.json), fixed; only the Gaussians learn", ""},
       {"steps", "N", "training steps (one training image or patch each)", "15000"},
       {"seed", "S", "random seed (initial Gaussians, height field, view order, patches)", "1"},
       {"gaussians", "N", "initial Gaussians, uniform in the box derived under the water", "20000"},

@@ -1,5 +1,7 @@
 #include "engine/dataset/ground_truth.h"
 
+#include <cmath>
+
 #include "engine/dataset/dataset_json.h"
 #include "engine/error.h"
 #include "engine/io/atomic_file.h"
@@ -54,6 +56,35 @@ std::optional<HeightGrid> loadGroundTruthSurface(const Dataset& d) {
   }
   if (!domain) fail(path + ": 'height_map' needs 'height_map_domain' or 'domain'");
   return loadHeightGridNpy(d.root + "/" + j["height_map"].get<std::string>(), *domain);
+}
+
+AnalyticWaves loadGroundTruthWaves(const Dataset& d) {
+  const std::string path = d.root + "/water.json";
+  const std::string what = path + ": the known-water oracle needs ";
+  if (!fileExists(path)) fail(what + "a water.json with the ground-truth 'surface'");
+  nlohmann::json j = readDatasetJson(path);
+  if (!j.is_object() || !j.contains("surface") || !j["surface"].is_object()) fail(what + "a ground-truth 'surface'");
+  const nlohmann::json& s = j["surface"];
+  if (s.value("type", "") != "wave_sum") fail(what + "a 'surface' of type 'wave_sum'");
+  if (s.contains("radial_ripples") && !(s["radial_ripples"].is_array() && s["radial_ripples"].empty()))
+    fail(what + "directional waves only (this surface has radial ripples)");
+  const nlohmann::json& waves = s.contains("directional_waves") ? s["directional_waves"] : nlohmann::json::array();
+  if (!waves.is_array() || waves.size() > 4) fail(what + "at most 4 directional waves");
+  if (d.normalization != glm::dmat4(1.0)) fail(what + "a dataset in its own world frame (this one is normalised on loading)");
+  auto number = [&](const nlohmann::json& o, const char* key) {
+    if (!o.is_object() || !o.contains(key) || !o[key].is_number() || !std::isfinite(o[key].get<double>()))
+      fail(path + ": surface wave '" + key + "' must be a finite number");
+    return o[key].get<double>();
+  };
+  AnalyticWaves w;
+  w.base = float(number(s, "mean_height"));
+  for (size_t i = 0; i < waves.size(); i++) {
+    w.waves[i][0] = float(number(waves[i], "amplitude"));
+    w.waves[i][1] = float(number(waves[i], "kx"));
+    w.waves[i][2] = float(number(waves[i], "ky"));
+    w.waves[i][3] = float(number(waves[i], "phase"));
+  }
+  return w;
 }
 
 }  // namespace refrax

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "engine/analytic_height.h"
 #include "engine/dataset/dataset.h"
 #include "engine/metrics.h"
 
@@ -14,5 +15,10 @@ namespace refrax {
 HeightGrid loadHeightGridNpy(const std::string& path, const Rect& domain);
 // The dataset's ground-truth height grid, or nothing when water.json names none.
 std::optional<HeightGrid> loadGroundTruthSurface(const Dataset& dataset);
+// The closed-form ground-truth surface of water.json ("surface": {"type": "wave_sum",
+// "mean_height", "directional_waves": [{amplitude, kx, ky, phase}], "radial_ripples": []},
+// as `refrax synth` writes it) for the known-water oracle. refrax::Error when the dataset has
+// none, or a surface AnalyticWaves cannot hold (ripples, more than 4 waves).
+AnalyticWaves loadGroundTruthWaves(const Dataset& dataset);
 
 }  // namespace refrax

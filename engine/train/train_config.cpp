@@ -12,6 +12,7 @@ const char* waterModelName(WaterModel model) {
     case WaterModel::Refraction: return "refraction";
     case WaterModel::NoRefraction: return "no-refraction";
     case WaterModel::FlatWater: return "flat-water";
+    case WaterModel::KnownWater: return "known-water";
   }
   return "?";
 }
@@ -20,6 +21,7 @@ WaterModel parseWaterModel(const std::string& name) {
   if (name == "refraction") return WaterModel::Refraction;
   if (name == "no-refraction") return WaterModel::NoRefraction;
   if (name == "flat-water") return WaterModel::FlatWater;
+  if (name == "known-water") return WaterModel::KnownWater;
   fail("unknown water model '" + name + "' (refraction, no-refraction, flat-water)");
 }
 

@@ -13,7 +13,9 @@
 
 namespace refrax {
 
-enum class WaterModel { Refraction, NoRefraction, FlatWater };
+// KnownWater: the oracle, the dataset's ground-truth surface fixed (only the Gaussians learn):
+// what the refraction model would reach with a perfect surface.
+enum class WaterModel { Refraction, NoRefraction, FlatWater, KnownWater };
 const char* waterModelName(WaterModel model);
 WaterModel parseWaterModel(const std::string& name);
 

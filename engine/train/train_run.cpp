@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "engine/dataset/ground_truth.h"
 #include "engine/dataset/scene_bounds.h"
 #include "engine/error.h"
 #include "engine/io/atomic_file.h"
@@ -36,6 +37,7 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
   c.extent = sceneExtent(cams);
   resolveSchedule(c);
   validateTrainConfig(c);
+  if (c.model == WaterModel::KnownWater) loadGroundTruthWaves(d);  // refused before any device work
 }
 
 std::vector<double> sampleWaterHeights(TrainSession& s, uint32_t nx, uint32_t ny) {
@@ -47,6 +49,8 @@ std::vector<double> sampleWaterHeights(TrainSession& s, uint32_t nx, uint32_t ny
       xy[2 * (j * nx + i) + 1] = float(r.yMin + (r.yMax - r.yMin) * j / double(ny - 1));
     }
   std::vector<double> out(size_t(nx) * ny, s.config.model == WaterModel::FlatWater ? s.planeHeight : s.config.waterHeight);
+  if (s.config.model == WaterModel::KnownWater)
+    for (size_t k = 0; k < out.size(); k++) out[k] = analyticHeightRef(s.plane.waves, xy[2 * k], xy[2 * k + 1]);
   if (s.height) {
     Context& ctx = *s.ctx;
     Buffer points = createBufferFrom(ctx, xy);

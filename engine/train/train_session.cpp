@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "engine/dataset/ground_truth.h"
 #include "engine/error.h"
 #include "engine/gaussian_math.h"
 #include "engine/height_field_source.h"
@@ -167,6 +168,10 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
     w.base = float(s->planeHeight);
     s->plane = createAnalyticHeightField(ctx, w);
   }
+  if (config.model == WaterModel::KnownWater) {
+    s->plane = createAnalyticHeightField(ctx, loadGroundTruthWaves(s->dataset));
+    s->planeHeight = s->plane.waves.base;  // what a checkpoint stores and restores as the base
+  }
   if (config.model != WaterModel::NoRefraction) createSurface(*s);
   shuffleViews(*s);
   return s;
@@ -255,7 +260,7 @@ StepResult trainStep(TrainSession& s) {
   if (patch) upload(ctx, s.pixels, pixelList.data(), pixelList.size() * 4);
 
   bool refract = s.surface.has_value();
-  bool surfaceLearns = refract && t > c.schedule.surfaceFreeze;
+  bool surfaceLearns = refract && c.model != WaterModel::KnownWater && t > c.schedule.surfaceFreeze;
   if (refract) s.surface->config.faceNormals = t <= c.schedule.faceNormalsUntil;
   TraceOptions opt;
   for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(c.datasetOptions.background[ch]);
