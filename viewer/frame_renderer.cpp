@@ -1,0 +1,115 @@
+#include "viewer/frame_renderer.h"
+
+#include <cmath>
+
+#include "engine/builtin_surface_spec.h"
+#include "engine/error.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
+
+namespace refrax {
+
+namespace {
+
+std::string describe(const BuiltinSurface& b) {
+  char text[160];
+  std::snprintf(text, sizeof text, "%s %.9g %.9g %.9g %.9g", b.kind.c_str(), b.height, b.amplitude, b.wavelength, b.directionDeg);
+  return text;
+}
+
+void ensureCapacity(FrameRenderer& r, uint32_t n) {
+  if (n <= r.capacity) return;
+  vkDeviceWaitIdle(r.ctx->device);
+  r.capacity = n;
+  r.rays = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuRay));
+  r.refracted = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuRay));
+  r.records = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(SurfaceRecord));
+  r.results = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuTraceResult));
+  r.pixels = createBuffer(*r.ctx, VkDeviceSize(n) * 4);
+}
+
+}  // namespace
+
+FrameRenderer createFrameRenderer(Context& ctx) {
+  FrameRenderer r;
+  r.ctx = &ctx;
+  r.rayPipelines = createCameraRayPipelines(ctx);
+  r.compose = createViewComposePipeline(ctx);
+  return r;
+}
+
+WaterMode effectiveWater(const ViewScene& scene, const RenderSettings& s) {
+  if (s.water == WaterMode::Kept && !learnedWater(scene)) return WaterMode::Removed;
+  return s.water;
+}
+
+void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s) {
+  Context& ctx = *r.ctx;
+  uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  ensureCapacity(r, n);
+  WaterMode water = effectiveWater(scene, s);
+  r.waterThisFrame = water != WaterMode::Removed;
+  r.surfaceMs.clear();
+  if (!r.waterThisFrame) return;
+
+  WaterSurfaceConfig wc;
+  wc.domain = scene.domain;
+  wc.gridCells = s.gridCells;
+  wc.subdivisionLevels = s.subdivisionLevels;
+  wc.ior = s.ior;
+  wc.maxRays = r.capacity;
+  char shape[160];
+  std::snprintf(shape, sizeof shape, "%.9g %.9g %.9g %.9g %u %u %u", wc.domain.x0, wc.domain.y0, wc.domain.x1, wc.domain.y1, wc.gridCells,
+                wc.subdivisionLevels, wc.maxRays);
+  if (!r.surface || r.surfaceShape != shape) {
+    vkDeviceWaitIdle(ctx.device);
+    r.surface.reset();
+    r.surface.emplace(createWaterSurface(ctx, wc));
+    r.surfaceShape = shape;
+    r.surfaceHeights.clear();
+  }
+  r.surface->config.ior = s.ior;
+  // As renderView: the learned surface with the normals of its training phase, a swapped-in one smooth.
+  r.surface->config.faceNormals = water == WaterMode::Kept && scene.session && scene.session->step <= scene.session->config.schedule.faceNormalsUntil;
+
+  HeightSource source;
+  std::string heights;
+  if (water == WaterMode::Kept) {
+    source = *learnedWater(scene);
+    heights = "learned " + std::to_string(scene.generation);
+  } else {
+    heights = "swap " + describe(s.swap);
+    if (r.surfaceHeights != heights) r.swapField.emplace(createAnalyticHeightField(ctx, builtinSurfaceWaves(s.swap)));
+    source = heightSource(*r.swapField);
+  }
+  if (r.surfaceHeights != heights) {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *r.surface, source); });
+    r.surfaceHeights = heights;
+  }
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, r.rayPipelines, camera, r.rays, 0.0f, 1e6f); });
+  SurfaceTimings timings;
+  traceSurface(ctx, *r.surface, source, r.rays, n, r.refracted, r.records, ctx.caps.timestamps ? &timings : nullptr);
+  double total = 0;
+  for (auto& [stage, ms] : timings) total += ms;
+  if (!timings.empty()) r.surfaceMs.push_back({"surface", total});
+}
+
+void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s,
+                    GpuTimer& timer) {
+  uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  if (n > r.capacity) fail("cmdRenderFrame before prepareFrame for this size");
+  if (!r.waterThisFrame) {
+    cmdCameraRays(cb, r.rayPipelines, camera, r.rays, 0.0f, 1e6f);
+    cmdTimerStamp(cb, timer, "rays");
+  }
+  TraceOptions opt;
+  for (int ch = 0; ch < 3; ch++) opt.background[ch] = scene.background[ch];
+  opt.shDegree = std::min(s.shDegree, 3u);
+  cmdBarrier(cb);
+  cmdTraceForward(cb, scene.tracer, sceneProxies(scene), sceneGaussians(scene), r.waterThisFrame ? r.refracted : r.rays, r.results, n, opt);
+  cmdTimerStamp(cb, timer, "gaussians");
+  cmdComposeView(cb, r.compose, r.results, r.pixels, n, s.compose);
+  cmdTimerStamp(cb, timer, "compose");
+}
+
+}  // namespace refrax
