@@ -16,12 +16,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::file_time_type modificationTime(const std::string& path) {
-  std::error_code ec;
-  auto t = fs::last_write_time(path, ec);
-  return ec ? fs::file_time_type{} : t;
-}
-
 void collectCameras(ViewScene& scene) {
   scene.cameras.clear();
   for (const auto& [split, views] : scene.session->dataset.splits)
@@ -44,11 +38,13 @@ std::unique_ptr<ViewScene> openRunScene(Context& ctx, const std::string& runDir,
   scene->ctx = &ctx;
   scene->source = runDir;
   scene->runDir = runDir;
-  scene->checkpoint = latestCheckpoint(runDir);
-  scene->checkpointTime = modificationTime(scene->checkpoint);
+  scene->watch.runDir = runDir;
+  markTaken(scene->watch, latestCheckpoint(runDir));
   scene->session = openRun(ctx, runDir);
   scene->generation = 1;
   scene->status = "loaded step " + std::to_string(scene->session->step);
+  std::printf("refrax-view: loaded step %d (%s)\n", scene->session->step, scene->watch.taken.c_str());
+  std::fflush(stdout);
   scene->lastPoll = std::chrono::steady_clock::now();
   const TrainConfig& c = scene->session->config;
   scene->domain = {float(c.domain.xMin), float(c.domain.yMin), float(c.domain.xMax), float(c.domain.yMax)};
@@ -99,20 +95,19 @@ bool pollRunCheckpoint(ViewScene& scene, std::chrono::milliseconds interval) {
   auto now = std::chrono::steady_clock::now();
   if (now - scene.lastPoll < interval) return false;
   scene.lastPoll = now;
-  std::string newest = latestCheckpoint(scene.runDir);
+  std::string newest = newerCheckpoint(scene.watch);
   if (newest.empty()) return false;
-  auto time = modificationTime(newest);
-  if (newest == scene.checkpoint && time <= scene.checkpointTime) return false;
   try {
     loadCheckpoint(*scene.session, newest);
   } catch (const Error& e) {
     scene.status = std::string("reload failed (retrying): ") + e.what();
     return false;
   }
-  scene.checkpoint = newest;
-  scene.checkpointTime = time;
+  markTaken(scene.watch, newest);
   scene.generation++;
   scene.status = "loaded step " + std::to_string(scene.session->step);
+  std::printf("refrax-view: loaded step %d (%s)\n", scene.session->step, newest.c_str());
+  std::fflush(stdout);
   return true;
 }
 

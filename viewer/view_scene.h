@@ -15,6 +15,7 @@
 #include "engine/gaussian_trace.h"
 #include "engine/gaussians.h"
 #include "engine/height_source.h"
+#include "engine/train/checkpoint_watch.h"
 #include "engine/train/train_session.h"
 #include "engine/water_surface.h"
 
@@ -29,8 +30,7 @@ struct ViewScene {
   // A run: the session restored from `checkpoint`.
   std::string runDir;
   std::unique_ptr<TrainSession> session;
-  std::string checkpoint;
-  std::filesystem::file_time_type checkpointTime{};
+  CheckpointWatch watch;
   std::chrono::steady_clock::time_point lastPoll{};
   uint64_t generation = 0;  // +1 per (re)load: the viewer rebuilds what depends on the model
   std::string status;       // the last reload's outcome (shown in the panel)
