@@ -41,6 +41,10 @@ struct TraceOptions {
   float background[3] = {0, 0, 0};
   uint32_t shDegree = 3;
   uint32_t maxRounds = 1u << 20;  // a safety net only: every round makes progress
+  // The forward stops blending once the transmittance drops below this (kMinTransmittance
+  // of gaussian_math.glsl by default; the viewer raises it to trade accuracy for speed).
+  // The backward takes the default only (it must stop where training's forward stopped).
+  float minTransmittance = 1e-3f;
 };
 
 // Pipelines, compiled on first use (lavapipe JIT-compiles each one).

@@ -105,6 +105,7 @@ void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, cons
   TraceOptions opt;
   for (int ch = 0; ch < 3; ch++) opt.background[ch] = scene.background[ch];
   opt.shDegree = std::min(s.shDegree, 3u);
+  opt.minTransmittance = s.minTransmittance;
   cmdBarrier(cb);
   cmdTraceForward(cb, scene.tracer, sceneProxies(scene), sceneGaussians(scene), r.waterThisFrame ? r.refracted : r.rays, r.results, n, opt);
   cmdTimerStamp(cb, timer, "gaussians");

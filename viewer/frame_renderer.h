@@ -31,6 +31,7 @@ struct RenderSettings {
   uint32_t subdivisionLevels = 2;
   uint32_t gridCells = 64;
   uint32_t shDegree = 3;
+  float minTransmittance = TraceOptions{}.minTransmittance;
   ComposeOptions compose;
 };
 

@@ -171,6 +171,10 @@ int runViewer(const cli::Args& args) {
   }
   if (args.has("levels")) rs.subdivisionLevels = uint32_t(std::clamp(args.getInt("levels", 2), 0L, 8L));
   if (args.has("sh")) rs.shDegree = uint32_t(std::clamp(args.getInt("sh", 3), 0L, 3L));
+  if (args.has("min-transmittance")) {
+    rs.minTransmittance = float(args.getDouble("min-transmittance", 1e-3));
+    if (!(rs.minTransmittance >= 0 && rs.minTransmittance < 1)) fail("--min-transmittance must be in [0, 1)");
+  }
   if (args.has("heatmap")) rs.compose.mode = ComposeMode::HitHeatMap;
   std::string show = args.get("mode", scene ? "gaussians" : "normals");
   if (show == "gaussians" && !scene) fail("--mode gaussians needs a run folder or --ply");
@@ -455,6 +459,7 @@ cli::Command viewerCommand() {
   options.push_back({"levels", "K", "subdivision levels of the water surface", "the run's"});
   options.push_back({"k", "N", "k-buffer size of the Gaussian tracer", "16"});
   options.push_back({"sh", "DEGREE", "spherical-harmonics degree (0-3)", "the checkpoint's"});
+  options.push_back({"min-transmittance", "T", "stop blending a ray once its transmittance is below T (faster, less exact)", "0.001"});
   options.push_back({"heatmap", "", "show the hit-count heat map instead of colour", ""});
   options.push_back({"view", "SPLIT:INDEX", "start at a dataset camera (e.g. test:0)", ""});
   options.push_back({"mode", "MODE", "gaussians, normals or wireframe (the last two: the surface alone)", "gaussians (normals without a scene)"});
