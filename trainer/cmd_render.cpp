@@ -1,5 +1,8 @@
 // refrax render RUN -o DIR: renders a trained run's views (a dataset split or one look-at
-// camera) with the learned water kept, removed, or swapped for a built-in surface.
+// camera) with the learned water kept, removed, or swapped for a built-in surface or for any
+// triangle mesh from a glTF file.
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -7,7 +10,9 @@
 
 #include "engine/builtin_surfaces.h"
 #include "engine/error.h"
+#include "engine/io/gltf_surface.h"
 #include "engine/io/image_io.h"
+#include "engine/mesh_surface.h"
 #include "engine/train/render_run.h"
 #include "engine/train/train_run.h"
 #include "engine/vk_context.h"
@@ -52,7 +57,8 @@ AnalyticWaves builtinWaves(const std::string& spec, double defaultHeight) {
   num(3, b.wavelength);
   num(4, b.directionDeg);
   if (b.kind != "flat" && b.kind != "sine")
-    fail("--water must be keep, remove, flat[:height] or sine[:height:amplitude:wavelength:direction] (got '" + spec + "')");
+    fail("--water must be keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction] or a .gltf/.glb mesh (got '" +
+         spec + "')");
   surfaceHeightFunction(b);  // validates the wavelength
   AnalyticWaves w;
   w.base = b.height;
@@ -65,6 +71,14 @@ AnalyticWaves builtinWaves(const std::string& spec, double defaultHeight) {
   return w;
 }
 
+// `--water` names a glTF mesh when it ends in .gltf or .glb (any case).
+bool isGltfPath(const std::string& spec) {
+  std::string lower = spec;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  auto endsWith = [&](const std::string& ext) { return lower.size() > ext.size() && lower.compare(lower.size() - ext.size(), ext.size(), ext) == 0; };
+  return endsWith(".gltf") || endsWith(".glb");
+}
+
 int runRender(const cli::Args& args) {
   namespace fs = std::filesystem;
   if (args.positional.size() != 1) fail("refrax render needs one run folder");
@@ -74,7 +88,13 @@ int runRender(const cli::Args& args) {
   TrainConfig config = readRunConfig(run);
   WaterView mode = water == "keep" ? WaterView::Keep : water == "remove" ? WaterView::Remove : WaterView::Swap;
   std::optional<AnalyticWaves> waves;
-  if (mode == WaterView::Swap) waves = builtinWaves(water, config.waterHeight);
+  std::optional<SurfaceMesh> mesh;  // read (and checked) before anything is opened or written
+  if (mode == WaterView::Swap && isGltfPath(water)) {
+    mesh = readSurfaceGltf(water);
+    meshUnitNormals(*mesh);  // validates
+  } else if (mode == WaterView::Swap) {
+    waves = builtinWaves(water, config.waterHeight);
+  }
   std::vector<std::pair<std::string, Camera>> cameras;
   bool single = args.has("camera");
   std::string split = args.get("split", "test");
@@ -96,9 +116,11 @@ int runRender(const cli::Args& args) {
   }
   std::optional<AnalyticHeightField> swap;
   if (waves) swap.emplace(createAnalyticHeightField(*ctx, *waves));
+  std::optional<MeshSurface> swapMesh;
+  if (mesh) swapMesh.emplace(createMeshSurface(*ctx, *mesh));
   fs::create_directories(out);
   for (const auto& [name, cam] : cameras) {
-    RenderedView r = renderView(*session, cam, mode, swap ? &*swap : nullptr);
+    RenderedView r = renderView(*session, cam, mode, SwapSurface{swap ? &*swap : nullptr, swapMesh ? &*swapMesh : nullptr});
     writePng((fs::path(out) / name).string(), r.image);
     std::printf("wrote %s\n", (fs::path(out) / name).string().c_str());
   }
@@ -112,7 +134,10 @@ std::vector<cli::Option> renderOptions() {
                                 {"width", "PIXELS", "image width with --camera", "256"},
                                 {"height", "PIXELS", "image height with --camera", "256"},
                                 {"fov", "DEG", "vertical field of view with --camera", "45"},
-                                {"water", "MODE", "keep, remove, flat[:height] or sine[:height:amplitude:wavelength:direction]", "keep"}};
+                                {"water", "MODE",
+                                 "keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction], or PATH.gltf / PATH.glb: "
+                                 "any triangle mesh (glTF axes, +Y up) refracting the camera rays in the water's place",
+                                 "keep"}};
   for (auto& d : cli::deviceOptions()) o.push_back(d);
   return o;
 }

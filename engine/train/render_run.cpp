@@ -32,9 +32,28 @@ Camera lookAtCamera(const glm::dvec3& position, const glm::dvec3& target, int wi
   return c;
 }
 
-RenderedView renderView(TrainSession& s, const Camera& camera, WaterView water, const AnalyticHeightField* swap) {
+namespace {
+
+// The hits' points on the surface and, for the same pixels, on the initial flat water plane.
+void collectSurfacePoints(const TrainSession& s, const std::vector<GpuRay>& rays, const std::vector<GpuRay>& refracted,
+                          const std::vector<uint32_t>& flags, RenderedView& out) {
+  double h = s.config.waterHeight;
+  for (size_t i = 0; i < rays.size(); i++) {
+    if (!(flags[i] & kSurfaceHit)) continue;
+    out.surfacePoints.emplace_back(refracted[i].origin[0], refracted[i].origin[1], refracted[i].origin[2]);
+    const GpuRay& r = rays[i];
+    double t = (h - r.origin[2]) / r.dir[2];
+    out.planePoints.emplace_back(r.origin[0] + t * r.dir[0], r.origin[1] + t * r.dir[1], h);
+  }
+}
+
+}  // namespace
+
+RenderedView renderView(TrainSession& s, const Camera& camera, WaterView water, const SwapSurface& swap) {
   Context& ctx = *s.ctx;
   uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  if (water == WaterView::Swap && (swap.analytic != nullptr) == (swap.mesh != nullptr))
+    fail(swap.analytic ? "render: two surfaces to swap in (a closed-form one and a mesh)" : "render: no surface to swap in");
   ensureRayCapacity(s, n);
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.rayPipelines, camera, s.rays, 0.0f, 1e6f); });
   RenderedView out;
@@ -46,28 +65,27 @@ RenderedView renderView(TrainSession& s, const Camera& camera, WaterView water, 
     surface = &*s.surface;
     surface->config.faceNormals = s.step <= s.config.schedule.faceNormalsUntil;
     source = currentHeightSource(s);
-  } else if (water == WaterView::Swap) {
-    if (!swap) fail("render: no surface to swap in");
+  } else if (water == WaterView::Swap && swap.analytic) {
     swapped.emplace(createWaterSurface(ctx, surfaceConfigFor(s)));
     surface = &*swapped;
-    source = heightSource(*swap);
+    source = heightSource(*swap.analytic);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *surface, source); });
+  } else if (water == WaterView::Swap) {
+    // The mesh's flags (one uint per ray) go into the records buffer (room for n SurfaceRecords).
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdRefractThroughMesh(cb, *swap.mesh, s.rays, n, surfaceConfigFor(s).ior, s.refracted, s.records); });
+    traced = &s.refracted;
+    auto flags = downloadVector<uint32_t>(ctx, s.records, n);
+    for (uint32_t f : flags) out.missed += (f & kSurfaceMissed) != 0;
+    collectSurfacePoints(s, downloadVector<GpuRay>(ctx, s.rays, n), downloadVector<GpuRay>(ctx, s.refracted, n), flags, out);
   }
   if (surface) {
     traceSurface(ctx, *surface, source, s.rays, n, s.refracted, s.records);
     traced = &s.refracted;
     out.missed = surface->lastCounters.missed;
     auto records = downloadVector<SurfaceRecord>(ctx, s.records, n);
-    auto refracted = downloadVector<GpuRay>(ctx, s.refracted, n);
-    auto rays = downloadVector<GpuRay>(ctx, s.rays, n);
-    double h = s.config.waterHeight;
-    for (uint32_t i = 0; i < n; i++) {
-      if (!(records[i].flags() & kSurfaceHit)) continue;
-      out.surfacePoints.emplace_back(refracted[i].origin[0], refracted[i].origin[1], refracted[i].origin[2]);
-      const GpuRay& r = rays[i];
-      double t = (h - r.origin[2]) / r.dir[2];
-      out.planePoints.emplace_back(r.origin[0] + t * r.dir[0], r.origin[1] + t * r.dir[1], h);
-    }
+    std::vector<uint32_t> flags(n);
+    for (uint32_t i = 0; i < n; i++) flags[i] = records[i].flags();
+    collectSurfacePoints(s, downloadVector<GpuRay>(ctx, s.rays, n), downloadVector<GpuRay>(ctx, s.refracted, n), flags, out);
   }
   TraceOptions opt;
   for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(s.config.datasetOptions.background[ch]);

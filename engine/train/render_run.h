@@ -1,7 +1,8 @@
 #pragma once
 // Rendering a trained model and measuring it: a view through the learned water (camera rays
 // refracted at the surface, then the Gaussians), with the water removed (straight rays), or
-// through another surface swapped in (a closed-form one: flat or sine, engine/analytic_height.h);
+// through another surface swapped in (a closed-form one: flat or sine, engine/analytic_height.h;
+// or any triangle mesh, engine/mesh_surface.h);
 // and the metrics of a run against a dataset (test PSNR/SSIM, surface RMSE against the ground
 // truth, water-removal PSNR against the air images).
 #include <optional>
@@ -14,6 +15,7 @@
 #include "engine/analytic_height.h"
 #include "engine/camera.h"
 #include "engine/io/image_io.h"
+#include "engine/mesh_surface.h"
 #include "engine/metrics.h"
 #include "engine/train/train_session.h"
 
@@ -28,8 +30,19 @@ struct RenderedView {
   uint32_t missed = 0;                    // rays that missed the surface domain
 };
 
-// `swap` is used for WaterView::Swap only (its own surface is built for the call).
-RenderedView renderView(TrainSession& session, const Camera& camera, WaterView water, const AnalyticHeightField* swap = nullptr);
+// The surface WaterView::Swap puts in the water's place: exactly one of the two. A closed-form
+// surface is lifted into the session's proxy-surface configuration (its own surface is built
+// for the call); a mesh is traced as it is (closest hit, its interpolated vertex normals).
+struct SwapSurface {
+  const AnalyticHeightField* analytic = nullptr;
+  const MeshSurface* mesh = nullptr;
+};
+
+// `swap` is used for WaterView::Swap only.
+RenderedView renderView(TrainSession& session, const Camera& camera, WaterView water, const SwapSurface& swap);
+inline RenderedView renderView(TrainSession& session, const Camera& camera, WaterView water, const AnalyticHeightField* swap = nullptr) {
+  return renderView(session, camera, water, SwapSurface{swap, nullptr});
+}
 
 // A look-at camera: position, target, world up +z, vertical field of view (radians).
 Camera lookAtCamera(const glm::dvec3& position, const glm::dvec3& target, int width, int height, double fovY);

@@ -1,0 +1,60 @@
+#pragma once
+// Surface swap (DESIGN 1.4 "Surface editing"): any triangle mesh (e.g. read from glTF,
+// engine/io/gltf_surface.h) replaces the learned water surface, no retraining. Each camera
+// ray is refracted at its closest hit on the mesh (interpolated vertex normals, Snell's law;
+// shaders/include/mesh_refract.glsl) and handed to the Gaussian tracer like the rays of
+// traceSurface. Also: baking a height source (e.g. the learned surface) into such a mesh
+// once at render resolution, for fast viewing.
+#include <cstdint>
+#include <vector>
+
+#include "engine/height_source.h"
+#include "engine/io/gltf_surface.h"
+#include "engine/rays.h"
+#include "engine/surface_record.h"
+#include "engine/vk_accel.h"
+#include "engine/vk_buffer.h"
+#include "engine/vk_pipeline.h"
+#include "engine/water_surface.h"
+
+namespace refrax {
+
+struct Context;
+
+struct MeshSurface {  // a triangle mesh on the device, traced with ray queries
+  Buffer positions, normals, indices;  // packed float3 per vertex (the BLAS input), unit float3 per vertex, uint32x3
+  AccelStruct blas;
+  TopLevel top;
+  uint32_t vertexCount = 0, triangleCount = 0;
+  ComputePipeline refract;
+};
+
+// The unit vertex normals a MeshSurface of `mesh` uses: vertexNormals() when mesh.normals is
+// empty, else mesh.normals normalised (in float, as uploaded). Validates the mesh: one clear
+// refrax::Error for no triangles, a count that is not a multiple of 3, normals and positions
+// differing in count, an index out of range, a non-finite position or normal, a zero normal.
+std::vector<float> meshUnitNormals(const SurfaceMesh& mesh);
+
+// Uploads the mesh (vertex normals from meshUnitNormals), builds BLAS+TLAS (submits and waits).
+// refrax::Error for an empty mesh or non-finite values (see meshUnitNormals).
+MeshSurface createMeshSurface(Context& ctx, const SurfaceMesh& mesh);
+
+// Records: for each of `count` GpuRay in `rays`, the closest hit on the mesh; refracted[i] =
+// GpuRay from the hit point (tmin 0) along the Snell-refracted unit direction (air -> water,
+// eta = 1/ior; normal = barycentric interpolation of the vertex normals, normalised, flipped
+// to face the ray), tmax = the rest of the ray's range; a ray that misses is copied
+// unchanged; an invalid (NaN/inf, zero-length, tmin < 0 or tmax < tmin) ray gives the empty
+// ray traceSurface writes (origin 0, tmin = tmax = 0). flags[i] (uint32) = kSurfaceHit /
+// kSurfaceMissed / kSurfaceInvalidRay (| kSurfaceBackFacing when the normal was flipped).
+// Starts with a barrier like the other cmd* stages.
+void cmdRefractThroughMesh(VkCommandBuffer cb, const MeshSurface& mesh, const Buffer& rays, uint32_t count, float ior,
+                           const Buffer& refracted, const Buffer& flags);
+
+// A height source sampled on a regular (cellsX+1) x (cellsY+1) lattice over `domain` into a
+// grid mesh (engine/grid_mesh.h's vertices and triangles) with area-weighted vertex normals:
+// how a learned surface is baked once at render resolution for fast viewing (the paper
+// precomputes the surface at render resolution). Submits and waits. refrax::Error for an
+// empty domain, zero cells, more than 2^26 vertices, or a non-finite height.
+SurfaceMesh bakeHeightMesh(Context& ctx, const HeightSource& heights, const SurfaceDomain& domain, uint32_t cellsX, uint32_t cellsY);
+
+}  // namespace refrax
