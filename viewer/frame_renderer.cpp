@@ -4,6 +4,8 @@
 
 #include "engine/builtin_surface_spec.h"
 #include "engine/error.h"
+#include "engine/grid_mesh.h"
+#include "engine/io/gltf_surface.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
 
@@ -24,6 +26,7 @@ void ensureCapacity(FrameRenderer& r, uint32_t n) {
   r.rays = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuRay));
   r.refracted = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuRay));
   r.records = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(SurfaceRecord));
+  r.flags = createBuffer(*r.ctx, VkDeviceSize(n) * 4);
   r.results = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuTraceResult));
   r.pixels = createBuffer(*r.ctx, VkDeviceSize(n) * 4);
 }
@@ -43,14 +46,49 @@ WaterMode effectiveWater(const ViewScene& scene, const RenderSettings& s) {
   return s.water;
 }
 
+namespace {
+
+// The water as a mesh: rebuilt when what it is made of changes.
+void ensureMesh(FrameRenderer& r, ViewScene& scene, WaterMode water, const RenderSettings& s) {
+  Context& ctx = *r.ctx;
+  const SurfaceDomain& d = scene.domain;
+  char grid[160];
+  std::snprintf(grid, sizeof grid, " | %u cells over %.9g %.9g %.9g %.9g", s.bakeCells, d.x0, d.y0, d.x1, d.y1);
+  std::string key = water == WaterMode::Kept ? "learned " + std::to_string(scene.generation) + grid
+                    : !s.swapMesh.empty()   ? "gltf " + s.swapMesh
+                                            : "builtin " + describe(s.swap) + grid;
+  if (r.mesh && r.meshKey == key) return;
+  SurfaceMesh mesh;
+  if (water == WaterMode::Kept) {
+    mesh = bakeHeightMesh(ctx, *learnedWater(scene), d, s.bakeCells, s.bakeCells);
+  } else if (!s.swapMesh.empty()) {
+    mesh = readSurfaceGltf(s.swapMesh);
+  } else {
+    mesh = surfaceMeshFromGrid(makeGridMesh(s.bakeCells, s.bakeCells, d.x0, d.y0, d.x1, d.y1, surfaceHeightFunction(s.swap)));
+  }
+  vkDeviceWaitIdle(ctx.device);
+  r.mesh.reset();
+  r.mesh.emplace(createMeshSurface(ctx, mesh));
+  r.meshKey = key;
+}
+
+}  // namespace
+
 void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s) {
   Context& ctx = *r.ctx;
   uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
   ensureCapacity(r, n);
   WaterMode water = effectiveWater(scene, s);
-  r.waterThisFrame = water != WaterMode::Removed;
   r.surfaceMs.clear();
-  if (!r.waterThisFrame) return;
+  bool closedForm = water == WaterMode::Kept || (s.swapMesh.empty() && s.swap.kind != "triangle");
+  r.path = water == WaterMode::Removed              ? FrameRenderer::Path::Straight
+           : s.exactWater && closedForm             ? FrameRenderer::Path::Subdivided
+                                                    : FrameRenderer::Path::Mesh;
+  if (r.path == FrameRenderer::Path::Straight) return;
+  if (r.path == FrameRenderer::Path::Mesh) {
+    ensureMesh(r, scene, water, s);
+    return;
+  }
 
   WaterSurfaceConfig wc;
   wc.domain = scene.domain;
@@ -98,16 +136,20 @@ void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, cons
                     GpuTimer& timer) {
   uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
   if (n > r.capacity) fail("cmdRenderFrame before prepareFrame for this size");
-  if (!r.waterThisFrame) {
+  if (r.path != FrameRenderer::Path::Subdivided) {
     cmdCameraRays(cb, r.rayPipelines, camera, r.rays, 0.0f, 1e6f);
     cmdTimerStamp(cb, timer, "rays");
+  }
+  if (r.path == FrameRenderer::Path::Mesh) {
+    cmdRefractThroughMesh(cb, *r.mesh, r.rays, n, s.ior, r.refracted, r.flags);
+    cmdTimerStamp(cb, timer, "water");
   }
   TraceOptions opt;
   for (int ch = 0; ch < 3; ch++) opt.background[ch] = scene.background[ch];
   opt.shDegree = std::min(s.shDegree, 3u);
   opt.minTransmittance = s.minTransmittance;
   cmdBarrier(cb);
-  cmdTraceForward(cb, scene.tracer, sceneProxies(scene), sceneGaussians(scene), r.waterThisFrame ? r.refracted : r.rays, r.results, n, opt);
+  cmdTraceForward(cb, scene.tracer, sceneProxies(scene), sceneGaussians(scene), r.path != FrameRenderer::Path::Straight ? r.refracted : r.rays, r.results, n, opt);
   cmdTimerStamp(cb, timer, "gaussians");
   cmdComposeView(cb, r.compose, r.results, r.pixels, n, s.compose);
   cmdTimerStamp(cb, timer, "compose");

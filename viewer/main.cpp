@@ -16,12 +16,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 
 #include "engine/builtin_surface_spec.h"
 #include "engine/error.h"
 #include "engine/fly_camera.h"
+#include "engine/io/gltf_surface.h"
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/train_run.h"
 #include "engine/view_camera.h"
@@ -86,14 +88,21 @@ std::optional<SurfaceDomain> parseDomain(const std::string& text) {
   return d;
 }
 
-// --water: keep, remove, or a built-in surface to swap in.
+bool isMeshFile(const std::string& path) {
+  auto ends = [&](const char* e) { return path.size() > std::strlen(e) && path.compare(path.size() - std::strlen(e), std::strlen(e), e) == 0; };
+  return ends(".gltf") || ends(".glb");
+}
+
+// --water: keep, remove, a built-in surface or a glTF mesh to swap in.
 void applyWaterOption(const std::string& water, float level, RenderSettings& r) {
   if (water == "keep") r.water = WaterMode::Kept;
   else if (water == "remove") r.water = WaterMode::Removed;
-  else {
+  else if (isMeshFile(water)) {
+    r.water = WaterMode::Swapped;
+    r.swapMesh = water;
+  } else {
     r.water = WaterMode::Swapped;
     r.swap = parseBuiltinSurface(water, level);
-    builtinSurfaceWaves(r.swap);  // the Gaussians see flat and sine water
   }
 }
 
@@ -106,6 +115,7 @@ int runViewer(const cli::Args& args) {
   if (!runDir.empty()) readRunConfig(runDir);  // one clear error for a folder that is not a run
   std::optional<GaussianSet> plyGaussians;
   if (!ply.empty()) plyGaussians = readGaussiansPly(ply);
+  if (isMeshFile(args.get("water"))) readSurfaceGltf(args.get("water"));  // one clear error before the window
   const long frames = args.getInt("frames", 0);
   const std::string screenshot = args.get("screenshot");
   const bool benchmark = args.has("benchmark");
@@ -165,6 +175,8 @@ int runViewer(const cli::Args& args) {
     if (scene->session) {
       rs.gridCells = scene->session->config.gridCells;
       rs.subdivisionLevels = scene->session->config.subdivisionLevels;
+      // The baked mesh's vertices on the finest lattice the trainer's subdivision evaluates H at.
+      rs.bakeCells = scene->session->config.gridCells << scene->session->config.subdivisionLevels;
     }
     applyWaterOption(args.get("water", scene->session ? "keep" : "remove"), scene->waterHeight, rs);
     if (args.has("view")) state.snappedCamera = findCamera(*scene, args.get("view"));
@@ -174,6 +186,12 @@ int runViewer(const cli::Args& args) {
   if (args.has("min-transmittance")) {
     rs.minTransmittance = float(args.getDouble("min-transmittance", 1e-3));
     if (!(rs.minTransmittance >= 0 && rs.minTransmittance < 1)) fail("--min-transmittance must be in [0, 1)");
+  }
+  rs.exactWater = args.has("exact-water");
+  if (args.has("bake-cells")) {
+    long cells = args.getInt("bake-cells", 256);
+    if (cells < 1 || cells > 4096) fail("--bake-cells must be between 1 and 4096");
+    rs.bakeCells = uint32_t(cells);
   }
   if (args.has("heatmap")) rs.compose.mode = ComposeMode::HitHeatMap;
   std::string show = args.get("mode", scene ? "gaussians" : "normals");
@@ -434,6 +452,16 @@ int runViewer(const cli::Args& args) {
     std::printf("benchmark GPU ms per frame:");
     for (const auto& name : bench.order) std::printf(" %s %.2f", name.c_str(), bench.stageMs[name] / bench.frames);
     std::printf("\n");
+    if (scene && state.show == ShowMode::Gaussians) {  // what the trace cost depends on
+      auto results = downloadVector<GpuTraceResult>(*ctx, renderer.results, size_t(stats.width) * stats.height);
+      double hits = 0, rounds = 0;
+      for (const auto& r : results) {
+        hits += r.hits;
+        rounds += r.rounds;
+      }
+      std::printf("benchmark trace: K %u, min transmittance %g, %.1f hits and %.2f k-buffer rounds per ray\n", scene->tracer.K,
+                  rs.minTransmittance, hits / double(results.size()), rounds / double(results.size()));
+    }
   }
 
   vkDeviceWaitIdle(ctx->device);
@@ -452,7 +480,11 @@ int runViewer(const cli::Args& args) {
 cli::Command viewerCommand() {
   auto options = cli::deviceOptions();
   options.push_back({"ply", "FILE", "view a 3DGS PLY instead of a run folder", ""});
-  options.push_back({"water", "MODE", "keep, remove, flat[:height] or sine[:height:amplitude:wavelength:direction]", "keep (run), remove (PLY)"});
+  options.push_back({"water", "MODE", "keep, remove, flat[:height], sine|triangle[:height:amplitude:wavelength:direction] or a .gltf/.glb mesh",
+                     "keep (run), remove (PLY)"});
+  options.push_back({"exact-water", "", "trace the water's subdivided proxy surface as training and refrax render do (slower)", ""});
+  options.push_back({"bake-cells", "N", "cells per side of the baked water mesh (learned or built-in surface)",
+                     "a run's grid cells << subdivision levels (its finest lattice), else 256"});
   options.push_back({"domain", "x0,y0,x1,y1", "with --ply: the water's extent", "the Gaussians' xy bounds + 10%"});
   options.push_back({"water-height", "Z", "with --ply: the water level of swapped-in surfaces", "0"});
   options.push_back({"ior", "N", "index of refraction of the water", "the run's (1.33)"});

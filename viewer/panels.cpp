@@ -35,19 +35,37 @@ void waterSection(const ViewScene& scene, ViewerState& st) {
   r.water = WaterMode(water);
   if (r.water == WaterMode::Kept && !learned) ImGui::TextDisabled("(this model has no learned water)");
   if (r.water == WaterMode::Swapped) {
-    const char* kinds[] = {"flat", "sine"};
-    int kind = r.swap.kind == "sine" ? 1 : 0;
-    if (ImGui::Combo("surface", &kind, kinds, 2)) r.swap.kind = kinds[kind];
+    const char* kinds[] = {"flat", "sine", "triangle", "glTF mesh"};
+    int kind = !r.swapMesh.empty() ? 3 : r.swap.kind == "sine" ? 1 : r.swap.kind == "triangle" ? 2 : 0;
+    static char path[512] = "";
+    if (ImGui::Combo("surface", &kind, kinds, 4)) {
+      if (kind < 3) {
+        r.swap.kind = kinds[kind];
+        r.swapMesh.clear();
+      } else if (path[0]) {
+        r.swapMesh = path;
+      }
+    }
+    ImGui::InputText("glTF file", path, sizeof path);
+    ImGui::SameLine();
+    if (ImGui::Button("load") && path[0]) r.swapMesh = path;
+    if (!r.swapMesh.empty()) ImGui::TextDisabled("%s", r.swapMesh.c_str());
     ImGui::SliderFloat("water level", &r.swap.height, scene.waterHeight - 0.5f, scene.waterHeight + 0.5f);
-    if (r.swap.kind == "sine") {
+    if (r.swap.kind != "flat") {
       ImGui::SliderFloat("amplitude", &r.swap.amplitude, 0.0f, 0.2f);
       ImGui::SliderFloat("wavelength", &r.swap.wavelength, 0.05f, 2.0f);
       ImGui::SliderFloat("direction", &r.swap.directionDeg, 0.0f, 180.0f);
     }
   }
   ImGui::SliderFloat("IOR", &r.ior, 1.0f, 2.0f);
-  int levels = int(r.subdivisionLevels);
-  if (ImGui::SliderInt("subdivision levels", &levels, 0, 4)) r.subdivisionLevels = uint32_t(levels);
+  ImGui::Checkbox("exact water (subdivided, as training)", &r.exactWater);
+  if (r.exactWater) {
+    int levels = int(r.subdivisionLevels);
+    if (ImGui::SliderInt("subdivision levels", &levels, 0, 4)) r.subdivisionLevels = uint32_t(levels);
+  } else {
+    int cells = int(r.bakeCells);
+    if (ImGui::SliderInt("baked cells per side", &cells, 16, 1024, "%d", ImGuiSliderFlags_Logarithmic)) r.bakeCells = uint32_t(cells);
+  }
 }
 
 void renderSection(const ViewScene& scene, ViewerState& st) {

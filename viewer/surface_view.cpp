@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "engine/grid_mesh.h"
+#include "engine/io/gltf_surface.h"
 #include "engine/train/train_run.h"
 #include "engine/vk_context.h"
 
@@ -24,7 +25,9 @@ const SurfacePreview& surfaceViewFor(Context& ctx, SurfaceView& view, ViewScene*
   std::string key;
   GridMesh mesh;
   bool learned = scene && effectiveWater(*scene, settings) == WaterMode::Kept;
+  bool gltf = scene && !learned && settings.water == WaterMode::Swapped && !settings.swapMesh.empty();
   if (learned) key = "learned " + std::to_string(scene->generation);
+  else if (gltf) key = "gltf " + settings.swapMesh;
   else if (scene) key = describe(settings.swap, scene->domain);
   else key = describe(fallback, SurfaceDomain{});
   if (view.preview && view.key == key) return *view.preview;
@@ -33,6 +36,7 @@ const SurfacePreview& surfaceViewFor(Context& ctx, SurfaceView& view, ViewScene*
     std::vector<double> h = sampleWaterHeights(*scene->session, kCells + 1, kCells + 1);
     mesh = makeGridMesh(kCells, kCells, d.x0, d.y0, d.x1, d.y1);
     for (uint32_t i = 0; i < mesh.vertexCount(); i++) mesh.vertices[3 * i + 2] = float(h[i]);
+  } else if (gltf) {
   } else if (scene) {
     const SurfaceDomain& d = scene->domain;
     mesh = makeGridMesh(kCells, kCells, d.x0, d.y0, d.x1, d.y1, surfaceHeightFunction(settings.swap));
@@ -41,7 +45,12 @@ const SurfacePreview& surfaceViewFor(Context& ctx, SurfaceView& view, ViewScene*
   }
   vkDeviceWaitIdle(ctx.device);
   view.preview.reset();
-  view.preview.emplace(createSurfacePreview(ctx, mesh.vertices, mesh.indices));
+  if (gltf) {
+    SurfaceMesh m = readSurfaceGltf(settings.swapMesh);
+    view.preview.emplace(createSurfacePreview(ctx, m.positions, m.indices));
+  } else {
+    view.preview.emplace(createSurfacePreview(ctx, mesh.vertices, mesh.indices));
+  }
   view.key = key;
   return *view.preview;
 }

@@ -1,7 +1,7 @@
 #pragma once
-// The surface-only views (normals, wireframe): a triangle grid of the water the viewer would
-// refract through (the learned heights of a run, the swapped-in built-in surface, or the
-// window's built-in surface when nothing is loaded), rebuilt when that water changes.
+// The surface-only views (normals, wireframe): the water the viewer would refract through as
+// triangles (the learned heights of a run on a 128^2 grid, the swapped-in built-in surface or
+// glTF mesh, or the window's built-in surface when nothing is loaded), rebuilt when it changes.
 #include <optional>
 #include <string>
 
