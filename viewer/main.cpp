@@ -73,8 +73,11 @@ void addStages(Benchmark& b, const std::vector<std::pair<std::string, double>>& 
 int findCamera(const ViewScene& scene, const std::string& spec) {
   auto colon = spec.find(':');
   if (colon == std::string::npos) fail("--view must be SPLIT:INDEX (e.g. test:0)");
+  char* end = nullptr;
+  long index = std::strtol(spec.c_str() + colon + 1, &end, 10);
+  if (colon + 1 == spec.size() || *end || index < 0) fail("--view must be SPLIT:INDEX (e.g. test:0)");
   char name[64];
-  std::snprintf(name, sizeof name, "%s %03ld", spec.substr(0, colon).c_str(), std::strtol(spec.c_str() + colon + 1, nullptr, 10));
+  std::snprintf(name, sizeof name, "%s %03ld", spec.substr(0, colon).c_str(), index);
   for (size_t i = 0; i < scene.cameras.size(); i++)
     if (scene.cameras[i].first == name) return int(i);
   fail("--view " + spec + ": the dataset has no such camera");
@@ -488,7 +491,7 @@ cli::Command viewerCommand() {
   options.push_back({"domain", "x0,y0,x1,y1", "with --ply: the water's extent", "the Gaussians' xy bounds + 10%"});
   options.push_back({"water-height", "Z", "with --ply: the water level of swapped-in surfaces", "0"});
   options.push_back({"ior", "N", "index of refraction of the water", "the run's (1.33)"});
-  options.push_back({"levels", "K", "subdivision levels of the water surface", "the run's"});
+  options.push_back({"levels", "K", "with --exact-water: subdivision levels of the water surface", "the run's"});
   options.push_back({"k", "N", "k-buffer size of the Gaussian tracer", "16"});
   options.push_back({"sh", "DEGREE", "spherical-harmonics degree (0-3)", "the checkpoint's"});
   options.push_back({"min-transmittance", "T", "stop blending a ray once its transmittance is below T (faster, less exact)", "0.001"});
