@@ -1,10 +1,12 @@
 #include "engine/mesh_surface.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "engine/error.h"
 #include "engine/grid_mesh.h"
+#include "engine/presort.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
 
@@ -32,6 +34,27 @@ void checkMesh(const SurfaceMesh& mesh) {
            std::to_string(mesh.vertexCount()));
 }
 
+// The triangles (index triples) in the order the BLAS gets them: lavapipe's builder splits
+// the input order at its middle, so a file's arbitrary order is replaced by a median split
+// of the triangles' boxes (engine/presort.h). The shader reads the triples by primitive
+// index from this same list, so the order is invisible outside.
+std::vector<uint32_t> triangleBuildOrder(const SurfaceMesh& mesh) {
+  std::vector<Box> boxes(mesh.triangleCount());
+  for (size_t k = 0; k < boxes.size(); k++) {
+    Box& b = boxes[k];
+    b = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    for (int c = 0; c < 3; c++) {
+      const float* p = &mesh.positions[3 * size_t(mesh.indices[3 * k + c])];
+      b.minX = std::min(b.minX, p[0]), b.minY = std::min(b.minY, p[1]), b.minZ = std::min(b.minZ, p[2]);
+      b.maxX = std::max(b.maxX, p[0]), b.maxY = std::max(b.maxY, p[1]), b.maxZ = std::max(b.maxZ, p[2]);
+    }
+  }
+  std::vector<uint32_t> order = medianSplitOrder(boxes), indices(mesh.indices.size());
+  for (size_t k = 0; k < order.size(); k++)
+    for (int c = 0; c < 3; c++) indices[3 * k + c] = mesh.indices[3 * size_t(order[k]) + c];
+  return indices;
+}
+
 }  // namespace
 
 std::vector<float> meshUnitNormals(const SurfaceMesh& mesh) {
@@ -57,7 +80,7 @@ MeshSurface createMeshSurface(Context& ctx, const SurfaceMesh& mesh) {
   m.triangleCount = uint32_t(mesh.triangleCount());
   m.positions = createBufferFrom(ctx, mesh.positions, kAccelInput);
   m.normals = createBufferFrom(ctx, normals);
-  m.indices = createBufferFrom(ctx, mesh.indices, kAccelInput);
+  m.indices = createBufferFrom(ctx, triangleBuildOrder(mesh), kAccelInput);
   m.blas = createTriangleBlas(ctx, m.positions, m.vertexCount, 12, m.indices, m.triangleCount);
   m.top = createTopLevel(ctx, {makeInstance(m.blas, 0)});
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
