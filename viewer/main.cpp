@@ -115,7 +115,8 @@ int runViewer(const cli::Args& args) {
   std::string runDir = args.positional.empty() ? "" : args.positional[0], ply = args.get("ply");
   if (args.positional.size() > 1) fail("refrax-view takes one run folder");
   if (!runDir.empty() && !ply.empty()) fail("give a run folder or --ply FILE, not both");
-  if (!runDir.empty()) readRunConfig(runDir);  // one clear error for a folder that is not a run
+  long defaultK = 16;
+  if (!runDir.empty()) defaultK = long(readRunConfig(runDir).kBuffer);  // also one clear error for a folder that is not a run
   std::optional<GaussianSet> plyGaussians;
   if (!ply.empty()) plyGaussians = readGaussiansPly(ply);
   if (isMeshFile(args.get("water"))) readSurfaceGltf(args.get("water"));  // one clear error before the window
@@ -125,7 +126,7 @@ int runViewer(const cli::Args& args) {
   if (frames < 0) fail("--frames must be positive");
   if (!screenshot.empty() && frames == 0) fail("--screenshot needs --frames N");
   if (benchmark && frames == 0) fail("--benchmark needs --frames N");
-  long K = args.getInt("k", 16);
+  long K = args.getInt("k", defaultK);
   if (K < 1 || K > 64) fail("--k must be between 1 and 64");
   long size = args.getInt("size", 0);
   int winW = int(size > 0 ? size : args.getInt("width", 800)), winH = int(size > 0 ? size : args.getInt("height", 600));
@@ -197,6 +198,8 @@ int runViewer(const cli::Args& args) {
     rs.bakeCells = uint32_t(cells);
   }
   if (args.has("heatmap")) rs.compose.mode = ComposeMode::HitHeatMap;
+  rs.compose.heatFullScale = float(args.getDouble("heat-scale", 64));
+  if (!(rs.compose.heatFullScale > 0)) fail("--heat-scale must be a positive number of hits");
   std::string show = args.get("mode", scene ? "gaussians" : "normals");
   if (show == "gaussians" && !scene) fail("--mode gaussians needs a run folder or --ply");
   state.show = show == "gaussians" ? ShowMode::Gaussians : show == "wireframe" ? ShowMode::SurfaceWireframe : show == "normals" ? ShowMode::SurfaceNormals
@@ -492,10 +495,11 @@ cli::Command viewerCommand() {
   options.push_back({"water-height", "Z", "with --ply: the water level of swapped-in surfaces", "0"});
   options.push_back({"ior", "N", "index of refraction of the water", "the run's (1.33)"});
   options.push_back({"levels", "K", "with --exact-water: subdivision levels of the water surface", "the run's"});
-  options.push_back({"k", "N", "k-buffer size of the Gaussian tracer", "16"});
+  options.push_back({"k", "N", "k-buffer size of the Gaussian tracer", "the run's (16)"});
   options.push_back({"sh", "DEGREE", "spherical-harmonics degree (0-3)", "the checkpoint's"});
   options.push_back({"min-transmittance", "T", "stop blending a ray once its transmittance is below T (faster, less exact)", "0.001"});
   options.push_back({"heatmap", "", "show the hit-count heat map instead of colour", ""});
+  options.push_back({"heat-scale", "HITS", "hits per pixel shown at the heat map's top colour", "64"});
   options.push_back({"view", "SPLIT:INDEX", "start at a dataset camera (e.g. test:0)", ""});
   options.push_back({"mode", "MODE", "gaussians, normals or wireframe (the last two: the surface alone)", "gaussians (normals without a scene)"});
   options.push_back({"surface", "KIND", "without a scene: built-in surface flat, sine or triangle", "sine"});
