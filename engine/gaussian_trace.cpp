@@ -16,7 +16,8 @@ namespace {
 
 struct TracePush {
   float background[4];
-  uint32_t count, shDegree, maxRounds, pad;
+  uint32_t count, shDegree, maxRounds;
+  float minTransmittance;  // forward only (the backward's slot is padding)
   float statViewpoint[4];  // backward only
 };
 struct PreparePush {
@@ -85,6 +86,8 @@ TracePush tracePush(uint32_t count, const TraceOptions& o) {
   push.count = count;
   push.shDegree = o.shDegree;
   push.maxRounds = std::max(o.maxRounds, 1u);
+  push.minTransmittance = o.minTransmittance;
+  if (!(o.minTransmittance >= 0.0f && o.minTransmittance < 1.0f)) fail("minimum transmittance must be in [0, 1)");
   if (o.statisticsViewpoint) {
     for (int a = 0; a < 3; a++) push.statViewpoint[a] = (*o.statisticsViewpoint)[a];
     push.statViewpoint[3] = 1.0f;
@@ -182,6 +185,8 @@ void cmdTraceForward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianP
 void cmdTraceBackward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const DeviceGaussians& gaussians,
                       const Buffer& rays, const Buffer& results, const Buffer& dLoss, const Buffer& grads, const Buffer& stats,
                       const Buffer& rayGrads, uint32_t count, const TraceOptions& options) {
+  if (options.minTransmittance != TraceOptions{}.minTransmittance)
+    fail("the Gaussian backward stops at the default minimum transmittance only");
   TracePush push = tracePush(count, options);
   cmdDispatch(cb, backwardPipeline(tracer, proxies.kind),
               {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results), bind(dLoss), bind(grads),

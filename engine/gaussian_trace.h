@@ -44,6 +44,10 @@ struct TraceOptions {
   float background[3] = {0, 0, 0};
   uint32_t shDegree = 3;
   uint32_t maxRounds = 1u << 20;  // a safety net only: every round makes progress
+  // The forward stops blending once the transmittance drops below this (kMinTransmittance
+  // of gaussian_math.glsl by default; the viewer raises it to trade accuracy for speed).
+  // The backward takes the default only (it must stop where training's forward stopped).
+  float minTransmittance = 1e-3f;
   // Backward: the densification statistic weighs |dL/dmean| by the distance from the camera
   // (3DGS's thresholds are for that). Refracted rays start at the water, so a trainer gives
   // the camera position here and distances run from it to the ray's origin, then along the

@@ -1,7 +1,7 @@
 #version 460
 // Gaussian ray tracer, forward (3DGRT k-buffer, DESIGN 1.4): per ray, blend the accepted
 // Gaussian hits front to back in (t, id) order, K at a time, until the transmittance drops
-// below kMinTransmittance or nothing is left; colour from SH along the ray direction
+// below the minimum transmittance (push constant; kMinTransmittance by default) or nothing is left; colour from SH along the ray direction
 // (+0.5, clamped at 0), then the background with the remaining transmittance.
 #extension GL_EXT_ray_query : require
 #extension GL_GOOGLE_include_directive : require
@@ -20,7 +20,7 @@ layout(push_constant) uniform Push {
   uint count;
   uint shDegree;
   uint maxRounds;
-  uint pad;
+  float minTransmittance;  // TraceOptions::minTransmittance (kMinTransmittance by default)
 } pc;
 #include "gaussian_kbuffer.glsl"
 
@@ -47,9 +47,9 @@ void main() {
       depth += T * alpha * kt[k];
       T *= 1.0 - alpha;
       hits++;
-      if (T < kMinTransmittance) break;
+      if (T < pc.minTransmittance) break;
     }
-    if (T < kMinTransmittance || n < K || rounds >= pc.maxRounds) break;
+    if (T < pc.minTransmittance || n < K || rounds >= pc.maxRounds) break;
     tcur = kt[K - 1];
     idcur = kid[K - 1];
   }

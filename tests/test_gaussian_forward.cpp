@@ -62,6 +62,38 @@ GPU_TEST_CASE("Gaussian forward matches the double reference, instanced unit-box
   checkForwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox);
 }
 
+GPU_TEST_CASE("Gaussian forward with a raised minimum transmittance matches the reference and stops earlier") {
+  GaussianSet set = randomGaussians(rng, 1500, testGaussianOptions());
+  DeviceGaussians dev = uploadGaussians(ctx, set);
+  GaussianTracer tracer = createGaussianTracer(ctx);
+  GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
+  auto rays = raysIntoVolume(rng, 1500);
+  TraceOptions full = randomBackground(rng), raised = full;
+  raised.minTransmittance = std::uniform_real_distribution<float>(0.05f, 0.4f)(rng);
+  auto gpu = traceGaussians(ctx, tracer, proxies, dev, rays, raised);
+  auto cmp = compareForward(set, rays, gpu, toOptionsD(raised));
+  INFO("min transmittance " << raised.minTransmittance << "; first problem: " << cmp.firstProblem);
+  CHECK(cmp.poisoned == 0);
+  CHECK(cmp.compared >= rays.size() * 95 / 100);
+  CHECK(cmp.hitCountMismatch == 0);
+  CHECK(cmp.worstColorRel <= 1e-4);
+  CHECK(cmp.worstOpacity <= 1e-5);
+  auto base = traceGaussians(ctx, tracer, proxies, dev, rays, full);
+  size_t fewer = 0, more = 0;
+  for (size_t i = 0; i < rays.size(); i++) {
+    fewer += gpu[i].hits < base[i].hits;
+    more += gpu[i].hits > base[i].hits;
+  }
+  CHECK(more == 0);
+  CHECK(fewer > 100);  // the raised threshold cut many rays short
+  TraceOptions bad;
+  bad.minTransmittance = 1.0f;
+  CHECK_THROWS_WITH_AS(traceGaussians(ctx, tracer, proxies, dev, rays, bad), doctest::Contains("minimum transmittance"), refrax::Error);
+  std::vector<float> dLoss(4 * rays.size(), 0.5f);  // the backward stops where training's forward does: the default only
+  CHECK_THROWS_WITH_AS(traceGaussiansBackward(ctx, tracer, proxies, dev, rays, gpu, dLoss, raised), doctest::Contains("default minimum"),
+                       refrax::Error);
+}
+
 GPU_TEST_CASE("Gaussian forward: the same image for any input order, any K and either proxy") {
   GaussianSet set = randomGaussians(rng, 1200, testGaussianOptions());
   std::vector<uint32_t> perm(set.count());

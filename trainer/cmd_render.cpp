@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "engine/builtin_surfaces.h"
+#include "engine/builtin_surface_spec.h"
 #include "engine/error.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/io/image_io.h"
@@ -35,40 +35,14 @@ std::vector<double> parseList(const std::string& text, size_t count, const char*
   return v;
 }
 
-// flat[:HEIGHT] or sine[:HEIGHT:AMPLITUDE:WAVELENGTH:DIRECTION_DEG] (engine/builtin_surfaces.h)
+// flat[:HEIGHT] or sine[:HEIGHT:AMPLITUDE:WAVELENGTH:DIRECTION_DEG] (engine/builtin_surface_spec.h)
 // as the closed-form surface the tracer lifts.
 AnalyticWaves builtinWaves(const std::string& spec, double defaultHeight) {
-  std::vector<std::string> parts;
-  std::stringstream ss(spec);
-  std::string item;
-  while (std::getline(ss, item, ':')) parts.push_back(item);
-  BuiltinSurface b;
-  b.kind = parts[0];
-  b.height = float(defaultHeight);
-  auto num = [&](size_t i, float& field) {
-    if (parts.size() <= i) return;
-    char* end = nullptr;
-    double d = std::strtod(parts[i].c_str(), &end);
-    if (parts[i].empty() || *end || !std::isfinite(d)) fail("--water " + spec + ": '" + parts[i] + "' is not a number");
-    field = float(d);
-  };
-  num(1, b.height);
-  num(2, b.amplitude);
-  num(3, b.wavelength);
-  num(4, b.directionDeg);
-  if (b.kind != "flat" && b.kind != "sine")
+  std::string kind = spec.substr(0, spec.find(':'));
+  if (kind != "flat" && kind != "sine")
     fail("--water must be keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction] or a .gltf/.glb mesh (got '" +
          spec + "')");
-  surfaceHeightFunction(b);  // validates the wavelength
-  AnalyticWaves w;
-  w.base = b.height;
-  if (b.kind == "sine") {
-    double k = 2 * M_PI / b.wavelength, a = b.directionDeg * M_PI / 180;
-    w.waves[0][0] = b.amplitude;
-    w.waves[0][1] = float(k * std::cos(a));
-    w.waves[0][2] = float(k * std::sin(a));
-  }
-  return w;
+  return builtinSurfaceWaves(parseBuiltinSurface(spec, float(defaultHeight)));
 }
 
 // `--water` names a glTF mesh when it ends in .gltf or .glb (any case).

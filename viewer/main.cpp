@@ -1,105 +1,51 @@
-// refrax-view: an interactive window over Refrax renders. Fly camera (WASD/QE, right-drag
-// to look, wheel for speed, O orbit, R reset, P screenshot), Dear ImGui panels with the
-// controls and per-stage GPU timings. `--screenshot FILE --frames N` renders N frames in the
-// window, saves the last render as PNG and exits (for tests and scripts).
+// refrax-view: an interactive window over Refrax renders. Opens a training run (its newest
+// checkpoint, followed as training writes new ones) or a 3DGS PLY, and traces the Gaussians
+// through the learned water, with the water removed, or through a built-in surface swapped in.
+// Fly camera (WASD/QE, right-drag to look, wheel for speed), O orbit, R reset, C next dataset
+// camera, 1/2/3 water kept/removed/swapped, H hit-count heat map, P screenshot; Dear ImGui
+// panels with the controls and per-stage GPU timings. `--frames N` renders N frames and exits
+// (with `--screenshot FILE` saving the last render as PNG, with `--benchmark` printing FPS and
+// GPU ms per stage).
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <map>
 
-#include "engine/builtin_surfaces.h"
+#include "engine/builtin_surface_spec.h"
 #include "engine/error.h"
 #include "engine/fly_camera.h"
-#include "engine/grid_mesh.h"
-#include "engine/io/image_io.h"
-#include "engine/surface_preview.h"
-#include "engine/vk_buffer.h"
+#include "engine/io/gltf_surface.h"
+#include "engine/io/ply_gaussians.h"
+#include "engine/train/train_run.h"
+#include "engine/view_camera.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
-#include "engine/vk_image.h"
 #include "engine/vk_timer.h"
 #include "trainer/cli.h"
+#include "viewer/frame_renderer.h"
+#include "viewer/panels.h"
+#include "viewer/present.h"
+#include "viewer/surface_view.h"
 #include "viewer/swapchain.h"
 
 using namespace refrax;
 
 namespace {
 
-struct ViewSettings {
-  BuiltinSurface surface{"sine", 0.0f, 0.03f, 0.6f, 30.0f};
-  int previewMode = 0;  // PreviewMode
-  float resolutionScale = 1.0f;
-  bool autoResolution = false;
-  float targetFrameMs = 100.0f;
-  float background[3] = {0.05f, 0.05f, 0.08f};
-};
-
-struct FrameSync {
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
-  VkFence fence = VK_NULL_HANDLE;
-  VkSemaphore imageReady = VK_NULL_HANDLE, renderDone = VK_NULL_HANDLE;
-};
-
-FrameSync createFrameSync(Context& ctx) {
-  FrameSync f;
-  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  cai.commandPool = ctx.commandPool;
-  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cai.commandBufferCount = 1;
-  REFRAX_VK(vkAllocateCommandBuffers(ctx.device, &cai, &f.cmd));
-  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  fci.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-  REFRAX_VK(vkCreateFence(ctx.device, &fci, nullptr, &f.fence));
-  VkSemaphoreCreateInfo sci{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-  REFRAX_VK(vkCreateSemaphore(ctx.device, &sci, nullptr, &f.imageReady));
-  REFRAX_VK(vkCreateSemaphore(ctx.device, &sci, nullptr, &f.renderDone));
-  return f;
-}
-
-void destroyFrameSync(Context& ctx, FrameSync& f) {
-  vkDestroySemaphore(ctx.device, f.imageReady, nullptr);
-  vkDestroySemaphore(ctx.device, f.renderDone, nullptr);
-  vkDestroyFence(ctx.device, f.fence, nullptr);
-  vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &f.cmd);
-}
-
-SurfacePreview buildSurface(Context& ctx, const BuiltinSurface& s) {
-  GridMesh mesh = makeGridMesh(128, 128, -1, -1, 1, 1, surfaceHeightFunction(s));
-  return createSurfacePreview(ctx, mesh.vertices, mesh.indices);
-}
-
-// The render target: packed RGBA8 pixels written by compute, copied into an image that is
-// blitted (scaled) onto the swapchain image.
-struct RenderTarget {
-  uint32_t width = 0, height = 0;
-  Buffer pixels;
-  Image2D image;
-};
-
-void ensureTarget(Context& ctx, RenderTarget& t, uint32_t w, uint32_t h) {
-  if (t.width == w && t.height == h) return;
-  vkDeviceWaitIdle(ctx.device);
-  t.width = w;
-  t.height = h;
-  t.pixels = createBuffer(ctx, size_t(w) * h * 4);
-  t.image = createImage2D(ctx, w, h, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-}
-
-void saveScreenshot(Context& ctx, const RenderTarget& t, const std::string& path) {
-  auto pixels = downloadVector<uint32_t>(ctx, t.pixels, size_t(t.width) * t.height);
-  writePng(path, rgba8ToImage(pixels, t.width, t.height));
-  std::printf("screenshot %s (%ux%u)\n", path.c_str(), t.width, t.height);
-}
-
 struct Input {
   bool looking = false;
   double lastX = 0, lastY = 0;
   float wheel = 0;
+  std::map<int, bool> down;  // keys held last frame (edge detection)
 };
 
 void onScroll(GLFWwindow* w, double, double dy) {
@@ -107,7 +53,92 @@ void onScroll(GLFWwindow* w, double, double dy) {
   ImGui_ImplGlfw_ScrollCallback(w, 0, dy);
 }
 
+// Per-stage GPU ms and wall time of the frames after a warm-up (lavapipe compiles each
+// pipeline on first use), for --benchmark.
+struct Benchmark {
+  long warmup = 0, frames = 0;
+  double wallMs = 0;
+  std::map<std::string, double> stageMs;
+  std::vector<std::string> order;
+};
+
+void addStages(Benchmark& b, const std::vector<std::pair<std::string, double>>& stages) {
+  for (const auto& [name, ms] : stages) {
+    if (!b.stageMs.count(name)) b.order.push_back(name);
+    b.stageMs[name] += ms;
+  }
+}
+
+// A dataset camera named SPLIT:INDEX.
+int findCamera(const ViewScene& scene, const std::string& spec) {
+  auto colon = spec.find(':');
+  if (colon == std::string::npos) fail("--view must be SPLIT:INDEX (e.g. test:0)");
+  char* end = nullptr;
+  long index = std::strtol(spec.c_str() + colon + 1, &end, 10);
+  if (colon + 1 == spec.size() || *end || index < 0) fail("--view must be SPLIT:INDEX (e.g. test:0)");
+  char name[64];
+  std::snprintf(name, sizeof name, "%s %03ld", spec.substr(0, colon).c_str(), index);
+  for (size_t i = 0; i < scene.cameras.size(); i++)
+    if (scene.cameras[i].first == name) return int(i);
+  fail("--view " + spec + ": the dataset has no such camera");
+}
+
+std::optional<SurfaceDomain> parseDomain(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  SurfaceDomain d;
+  char tail;
+  if (std::sscanf(text.c_str(), "%f,%f,%f,%f%c", &d.x0, &d.y0, &d.x1, &d.y1, &tail) != 4) fail("--domain must be x0,y0,x1,y1");
+  return d;
+}
+
+bool isMeshFile(const std::string& path) {
+  auto ends = [&](const char* e) { return path.size() > std::strlen(e) && path.compare(path.size() - std::strlen(e), std::strlen(e), e) == 0; };
+  return ends(".gltf") || ends(".glb");
+}
+
+// --water: keep, remove, a built-in surface or a glTF mesh to swap in.
+void applyWaterOption(const std::string& water, float level, RenderSettings& r) {
+  if (water == "keep") r.water = WaterMode::Kept;
+  else if (water == "remove") r.water = WaterMode::Removed;
+  else if (isMeshFile(water)) {
+    r.water = WaterMode::Swapped;
+    r.swapMesh = water;
+  } else {
+    r.water = WaterMode::Swapped;
+    r.swap = parseBuiltinSurface(water, level);
+  }
+}
+
 int runViewer(const cli::Args& args) {
+  namespace fs = std::filesystem;
+  // Everything about the inputs that can be checked without a window, first.
+  std::string runDir = args.positional.empty() ? "" : args.positional[0], ply = args.get("ply");
+  if (args.positional.size() > 1) fail("refrax-view takes one run folder");
+  if (!runDir.empty() && !ply.empty()) fail("give a run folder or --ply FILE, not both");
+  long defaultK = 16;
+  if (!runDir.empty()) defaultK = long(readRunConfig(runDir).kBuffer);  // also one clear error for a folder that is not a run
+  std::optional<GaussianSet> plyGaussians;
+  if (!ply.empty()) plyGaussians = readGaussiansPly(ply);
+  if (isMeshFile(args.get("water"))) readSurfaceGltf(args.get("water"));  // one clear error before the window
+  const long frames = args.getInt("frames", 0);
+  const std::string screenshot = args.get("screenshot");
+  const bool benchmark = args.has("benchmark");
+  if (frames < 0) fail("--frames must be positive");
+  if (!screenshot.empty() && frames == 0) fail("--screenshot needs --frames N");
+  if (benchmark && frames == 0) fail("--benchmark needs --frames N");
+  long K = args.getInt("k", defaultK);
+  if (K < 1 || K > 64) fail("--k must be between 1 and 64");
+  long size = args.getInt("size", 0);
+  int winW = int(size > 0 ? size : args.getInt("width", 800)), winH = int(size > 0 ? size : args.getInt("height", 600));
+  if (winW <= 0 || winH <= 0 || winW > 8192 || winH > 8192) fail("the window size must be between 1 and 8192");
+  FlyCamera home = parseLookAt(args.get("camera", "0,-2.2,1.6,0,0,0"));
+  if (args.has("fov")) {
+    double fov = args.getDouble("fov", 45);
+    if (!(fov > 0 && fov < 180)) fail("--fov must be in (0, 180) degrees");
+    home.tanHalfFovY = float(std::tan(fov * M_PI / 360));
+  }
+  FlyCamera camera = home;
+
   if (!glfwInit())
     fail("no display to open a window on (set DISPLAY, or run under xvfb-run); for images without a window use `refrax render`");
   struct GlfwGuard {
@@ -115,7 +146,6 @@ int runViewer(const cli::Args& args) {
   } glfwGuard;
   if (!glfwVulkanSupported()) fail("GLFW found no Vulkan loader for windows");
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
-  int winW = int(args.getInt("width", 800)), winH = int(args.getInt("height", 600));
   GLFWwindow* window = glfwCreateWindow(winW, winH, "refrax-view", nullptr, nullptr);
   if (!window) fail("could not open a window");
 
@@ -128,6 +158,52 @@ int runViewer(const cli::Args& args) {
   co.extraInstanceExtensions.assign(ext, ext + nExt);
   co.extraDeviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   auto ctx = createContext(co);
+
+  // The scene, and the render settings it starts from.
+  std::unique_ptr<ViewScene> scene;
+  ViewerState state;
+  state.K = int(K);
+  if (!runDir.empty()) scene = openRunScene(*ctx, runDir, uint32_t(K));
+  if (!ply.empty())
+    scene = openPlyScene(*ctx, ply, std::move(*plyGaussians), uint32_t(K), parseDomain(args.get("domain")), float(args.getDouble("water-height", 0)),
+                         float(args.getDouble("ior", 1.33)));
+  BuiltinSurface fallbackSurface{"sine", 0.0f, 0.03f, 0.6f, 30.0f};
+  if (args.has("surface")) fallbackSurface.kind = args.get("surface");
+  surfaceHeightFunction(fallbackSurface);
+  RenderSettings& rs = state.render;
+  rs.swap = BuiltinSurface{"flat", 0.0f, 0.02f, 0.5f, 0.0f};
+  if (scene) {
+    rs.swap.height = scene->waterHeight;
+    rs.ior = float(args.getDouble("ior", scene->ior));
+    rs.shDegree = scene->session ? shDegreeAt(scene->session->config, std::max(1, scene->session->step)) : scene->maxShDegree;
+    if (scene->session) {
+      rs.gridCells = scene->session->config.gridCells;
+      rs.subdivisionLevels = scene->session->config.subdivisionLevels;
+      // The baked mesh's vertices on the finest lattice the trainer's subdivision evaluates H at.
+      rs.bakeCells = scene->session->config.gridCells << scene->session->config.subdivisionLevels;
+    }
+    applyWaterOption(args.get("water", scene->session ? "keep" : "remove"), scene->waterHeight, rs);
+    if (args.has("view")) state.snappedCamera = findCamera(*scene, args.get("view"));
+  }
+  if (args.has("levels")) rs.subdivisionLevels = uint32_t(std::clamp(args.getInt("levels", 2), 0L, 8L));
+  if (args.has("sh")) rs.shDegree = uint32_t(std::clamp(args.getInt("sh", 3), 0L, 3L));
+  if (args.has("min-transmittance")) {
+    rs.minTransmittance = float(args.getDouble("min-transmittance", 1e-3));
+    if (!(rs.minTransmittance >= 0 && rs.minTransmittance < 1)) fail("--min-transmittance must be in [0, 1)");
+  }
+  rs.exactWater = args.has("exact-water");
+  if (args.has("bake-cells")) {
+    long cells = args.getInt("bake-cells", 256);
+    if (cells < 1 || cells > 4096) fail("--bake-cells must be between 1 and 4096");
+    rs.bakeCells = uint32_t(cells);
+  }
+  if (args.has("heatmap")) rs.compose.mode = ComposeMode::HitHeatMap;
+  rs.compose.heatFullScale = float(args.getDouble("heat-scale", 64));
+  if (!(rs.compose.heatFullScale > 0)) fail("--heat-scale must be a positive number of hits");
+  std::string show = args.get("mode", scene ? "gaussians" : "normals");
+  if (show == "gaussians" && !scene) fail("--mode gaussians needs a run folder or --ply");
+  state.show = show == "gaussians" ? ShowMode::Gaussians : show == "wireframe" ? ShowMode::SurfaceWireframe : show == "normals" ? ShowMode::SurfaceNormals
+                                                                                                                    : (fail("--mode must be gaussians, normals or wireframe"), ShowMode::Gaussians);
 
   Swapchain sc;
   createSurface(*ctx, window, sc);
@@ -167,25 +243,18 @@ int runViewer(const cli::Args& args) {
   glfwSetWindowUserPointer(window, &input);
   glfwSetScrollCallback(window, onScroll);
 
-  ViewSettings view;
-  if (args.has("surface")) view.surface.kind = args.get("surface");
-  view.previewMode = args.get("mode", "normals") == "wireframe" ? 1 : 0;
-  BuiltinSurface built = view.surface;
-  SurfacePreview preview = buildSurface(*ctx, built);
-  FlyCamera home = parseLookAt(args.get("camera", "0,-2.2,1.6,0,0,0")), camera = home;
-
   FrameSync frame = createFrameSync(*ctx);
   GpuTimer timer;
-  createTimer(*ctx, timer, 8);
+  createTimer(*ctx, timer, 16);
   RenderTarget target;
-  std::vector<std::pair<std::string, double>> stageMs;
-  const long frames = args.getInt("frames", 0);
-  const std::string screenshot = args.get("screenshot");
-  if (frames < 0) fail("--frames must be positive");
-  if (!screenshot.empty() && frames == 0) fail("--screenshot needs --frames N");
+  FrameRenderer renderer = createFrameRenderer(*ctx);
+  SurfaceView surfaceView;
+  Buffer surfacePixels;
+  FrameStats stats;
+  Benchmark bench;
+  bench.warmup = std::min<long>(5, frames / 4);
   long frameIndex = 0;
-  double fps = 0, frameMs = 0;
-  bool wantScreenshot = false;
+  const float background[3] = {0.05f, 0.05f, 0.08f};
   auto last = std::chrono::steady_clock::now();
 
   while (!glfwWindowShouldClose(window)) {
@@ -193,26 +262,48 @@ int runViewer(const cli::Args& args) {
     auto now = std::chrono::steady_clock::now();
     float dt = std::chrono::duration<float>(now - last).count();
     last = now;
-    frameMs = dt * 1e3;
-    fps = fps == 0 ? 1.0 / std::max(dt, 1e-4f) : 0.9 * fps + 0.1 / std::max(dt, 1e-4f);
+    stats.frameMs = dt * 1e3;
+    stats.fps = stats.fps == 0 ? 1.0 / std::max(dt, 1e-4f) : 0.9 * stats.fps + 0.1 / std::max(dt, 1e-4f);
+    if (frameIndex == bench.warmup) bench.wallMs = 0;
+    else if (frameIndex > bench.warmup) bench.wallMs += dt * 1e3;
 
-    // ---- input (ignored while ImGui has the mouse/keyboard)
+    // ---- input (ignored while ImGui has the mouse/keyboard); moving leaves a dataset camera
     ImGuiIO& io = ImGui::GetIO();
+    auto leaveSnap = [&] {
+      if (state.snappedCamera < 0 || !scene) return;
+      camera = flyFromCamera(scene->cameras[size_t(state.snappedCamera)].second, camera);
+      state.snappedCamera = -1;
+    };
     if (!io.WantCaptureKeyboard) {
       auto key = [&](int k) { return glfwGetKey(window, k) == GLFW_PRESS ? 1.0f : 0.0f; };
-      flyMove(camera, key(GLFW_KEY_W) - key(GLFW_KEY_S), key(GLFW_KEY_D) - key(GLFW_KEY_A), key(GLFW_KEY_E) - key(GLFW_KEY_Q), dt);
-      if (glfwGetKey(window, GLFW_KEY_R) == GLFW_PRESS) camera = home;
-      static bool pWas = false, oWas = false;
-      bool p = glfwGetKey(window, GLFW_KEY_P) == GLFW_PRESS, o = glfwGetKey(window, GLFW_KEY_O) == GLFW_PRESS;
-      if (p && !pWas) wantScreenshot = true;
-      if (o && !oWas) camera.orbit = !camera.orbit;
-      pWas = p;
-      oWas = o;
+      auto pressed = [&](int k) {
+        bool d = glfwGetKey(window, k) == GLFW_PRESS, was = input.down[k];
+        input.down[k] = d;
+        return d && !was;
+      };
+      float f = key(GLFW_KEY_W) - key(GLFW_KEY_S), r = key(GLFW_KEY_D) - key(GLFW_KEY_A), u = key(GLFW_KEY_E) - key(GLFW_KEY_Q);
+      if (f != 0 || r != 0 || u != 0) {
+        leaveSnap();
+        flyMove(camera, f, r, u, dt);
+      }
+      if (pressed(GLFW_KEY_R)) state.resetView = true;
+      if (pressed(GLFW_KEY_P)) state.screenshot = true;
+      if (pressed(GLFW_KEY_O)) camera.orbit = !camera.orbit;
+      if (pressed(GLFW_KEY_H))
+        rs.compose.mode = rs.compose.mode == ComposeMode::Colour ? ComposeMode::HitHeatMap : ComposeMode::Colour;
+      if (pressed(GLFW_KEY_1)) rs.water = WaterMode::Kept;
+      if (pressed(GLFW_KEY_2)) rs.water = WaterMode::Removed;
+      if (pressed(GLFW_KEY_3)) rs.water = WaterMode::Swapped;
+      if (pressed(GLFW_KEY_C) && scene && !scene->cameras.empty())
+        state.snappedCamera = (state.snappedCamera + 1) % int(scene->cameras.size());
     }
     double mx, my;
     glfwGetCursorPos(window, &mx, &my);
     bool rightDown = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS && !io.WantCaptureMouse;
-    if (rightDown && input.looking) flyLook(camera, -float(mx - input.lastX) * 0.005f, -float(my - input.lastY) * 0.005f);
+    if (rightDown && input.looking && (mx != input.lastX || my != input.lastY)) {
+      leaveSnap();
+      flyLook(camera, -float(mx - input.lastX) * 0.005f, -float(my - input.lastY) * 0.005f);
+    }
     input.looking = rightDown;
     input.lastX = mx;
     input.lastY = my;
@@ -223,41 +314,63 @@ int runViewer(const cli::Args& args) {
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    ImGui::Begin("Refrax");
-    ImGui::Text("%s", ctx->caps.name.c_str());
-    ImGui::Text("%.1f FPS (%.1f ms)  render %ux%u", fps, frameMs, target.width, target.height);
-    for (auto& s : stageMs) ImGui::Text("  %-8s %7.2f ms", s.first.c_str(), s.second);
-    ImGui::Separator();
-    const char* kinds[] = {"flat", "sine", "triangle"};
-    int kind = view.surface.kind == "flat" ? 0 : view.surface.kind == "sine" ? 1 : 2;
-    if (ImGui::Combo("surface", &kind, kinds, 3)) view.surface.kind = kinds[kind];
-    ImGui::SliderFloat("amplitude", &view.surface.amplitude, 0.0f, 0.2f);
-    ImGui::SliderFloat("wavelength", &view.surface.wavelength, 0.05f, 2.0f);
-    ImGui::SliderFloat("direction", &view.surface.directionDeg, 0.0f, 180.0f);
-    const char* modes[] = {"normals", "wireframe"};
-    ImGui::Combo("show", &view.previewMode, modes, 2);
-    ImGui::Checkbox("auto resolution", &view.autoResolution);
-    if (view.autoResolution) ImGui::SliderFloat("target ms", &view.targetFrameMs, 16.0f, 500.0f);
-    else ImGui::SliderFloat("resolution", &view.resolutionScale, 0.1f, 1.0f);
-    ImGui::SliderFloat("speed", &camera.speed, 0.01f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-    ImGui::Checkbox("orbit (O)", &camera.orbit);
-    if (ImGui::Button("reset view (R)")) camera = home;
-    ImGui::SameLine();
-    if (ImGui::Button("screenshot (P)")) wantScreenshot = true;
-    ImGui::End();
+    if (scene) {
+      drawPanel(ctx->caps.name, *scene, state, camera, stats);
+    } else {  // nothing loaded: the built-in surface by itself
+      ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+      ImGui::Begin("Refrax");
+      ImGui::Text("%s", ctx->caps.name.c_str());
+      ImGui::Text("%.1f FPS (%.1f ms)  render %ux%u", stats.fps, stats.frameMs, stats.width, stats.height);
+      const char* kinds[] = {"flat", "sine", "triangle"};
+      int kind = fallbackSurface.kind == "flat" ? 0 : fallbackSurface.kind == "sine" ? 1 : 2;
+      if (ImGui::Combo("surface", &kind, kinds, 3)) fallbackSurface.kind = kinds[kind];
+      ImGui::SliderFloat("amplitude", &fallbackSurface.amplitude, 0.0f, 0.2f);
+      ImGui::SliderFloat("wavelength", &fallbackSurface.wavelength, 0.05f, 2.0f);
+      int show = int(state.show) - 1;
+      const char* modes[] = {"normals", "wireframe"};
+      if (ImGui::Combo("show", &show, modes, 2)) state.show = ShowMode(show + 1);
+      if (ImGui::Button("reset view (R)")) state.resetView = true;
+      ImGui::End();
+    }
     ImGui::Render();
 
-    if (built.kind != view.surface.kind || built.amplitude != view.surface.amplitude ||
-        built.wavelength != view.surface.wavelength || built.directionDeg != view.surface.directionDeg) {
-      vkDeviceWaitIdle(ctx->device);
-      built = view.surface;
-      preview = buildSurface(*ctx, built);
+    if (state.resetView) {
+      camera = home;
+      state.snappedCamera = -1;
+      state.resetView = false;
     }
-    if (view.autoResolution && frameMs > 0) {  // hold the target frame time by rendering fewer pixels
-      float ratio = view.targetFrameMs / float(frameMs);
-      view.resolutionScale = std::clamp(view.resolutionScale * std::clamp(std::sqrt(ratio), 0.8f, 1.2f), 0.1f, 1.0f);
+    if (scene && state.followCheckpoints) pollRunCheckpoint(*scene);
+    if (scene) setTracerK(*scene, uint32_t(state.K));
+    if (state.autoResolution) state.resolutionScale = nextResolutionScale(state.resolutionScale, stats.frameMs, state.targetFrameMs);
+
+    // ---- the render's size and camera (a dataset camera keeps its aspect)
+    uint32_t rw = std::max(1u, uint32_t(float(sc.extent.width) * state.resolutionScale));
+    uint32_t rh = std::max(1u, uint32_t(float(sc.extent.height) * state.resolutionScale));
+    Camera view;
+    if (scene && state.snappedCamera >= 0) {
+      const Camera& c = scene->cameras[size_t(state.snappedCamera)].second;
+      double s = std::min(double(rw) / c.width, double(rh) / c.height);
+      rw = std::max(1u, uint32_t(c.width * s + 0.5));
+      rh = std::max(1u, uint32_t(c.height * s + 0.5));
+      view = resizedCamera(c, int(rw), int(rh));
+    } else {
+      view = cameraFromFly(camera, int(rw), int(rh));
     }
+    ensureTarget(*ctx, target, rw, rh);
+    stats.width = rw;
+    stats.height = rh;
+    const bool gaussians = scene && state.show == ShowMode::Gaussians;
+    const SurfacePreview* preview = nullptr;
+    if (gaussians) {
+      prepareFrame(renderer, *scene, view, rs);
+    } else {
+      preview = &surfaceViewFor(*ctx, surfaceView, scene.get(), rs, fallbackSurface);
+      if (surfacePixels.size < VkDeviceSize(rw) * rh * 4) {
+        vkDeviceWaitIdle(ctx->device);
+        surfacePixels = createBuffer(*ctx, VkDeviceSize(rw) * rh * 4);
+      }
+    }
+    const Buffer& pixels = gaussians ? renderer.pixels : surfacePixels;
 
     // ---- frame
     REFRAX_VK(vkWaitForFences(ctx->device, 1, &frame.fence, VK_TRUE, UINT64_MAX));
@@ -269,34 +382,21 @@ int runViewer(const cli::Args& args) {
     }
     if (acq != VK_SUCCESS && acq != VK_SUBOPTIMAL_KHR) REFRAX_VK(acq);
     REFRAX_VK(vkResetFences(ctx->device, 1, &frame.fence));
-    uint32_t rw = std::max(1u, uint32_t(float(sc.extent.width) * view.resolutionScale));
-    uint32_t rh = std::max(1u, uint32_t(float(sc.extent.height) * view.resolutionScale));
-    ensureTarget(*ctx, target, rw, rh);
 
     VkCommandBuffer cb = frame.cmd;
     REFRAX_VK(vkResetCommandBuffer(cb, 0));
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     REFRAX_VK(vkBeginCommandBuffer(cb, &bi));
     cmdTimerStart(cb, timer);
-    cmdRenderSurfacePreview(cb, preview, camera, rw, rh, PreviewMode(view.previewMode), view.background, target.pixels);
-    cmdTimerStamp(cb, timer, "surface");
-    cmdBarrier(cb);
-    cmdImageLayout(cb, target.image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-    VkBufferImageCopy copy{};
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    copy.imageExtent = {rw, rh, 1};
-    vkCmdCopyBufferToImage(cb, target.pixels.buffer, target.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
-    cmdImageLayout(cb, target.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    VkImage swapImage = sc.images[imageIndex];
-    cmdImageLayout(cb, swapImage, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-    VkImageBlit blit{};
-    blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    blit.srcOffsets[1] = {int32_t(rw), int32_t(rh), 1};
-    blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    blit.dstOffsets[1] = {int32_t(sc.extent.width), int32_t(sc.extent.height), 1};
-    vkCmdBlitImage(cb, target.image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, swapImage, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
-                   &blit, VK_FILTER_LINEAR);
-    cmdImageLayout(cb, swapImage, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    if (gaussians) {
+      cmdRenderFrame(cb, renderer, *scene, view, rs, timer);
+    } else {
+      FlyCamera look = state.snappedCamera >= 0 && scene ? flyFromCamera(view, camera) : camera;
+      PreviewMode mode = state.show == ShowMode::SurfaceWireframe ? PreviewMode::Wireframe : PreviewMode::Normals;
+      cmdRenderSurfacePreview(cb, *preview, look, rw, rh, mode, background, surfacePixels);
+      cmdTimerStamp(cb, timer, "surface");
+    }
+    cmdPresentPixels(cb, pixels, target, sc.images[imageIndex], sc.extent, background);
     cmdTimerStamp(cb, timer, "blit");
     VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
     rp.renderPass = sc.overlayPass;
@@ -329,18 +429,44 @@ int runViewer(const cli::Args& args) {
     else if (pr != VK_SUCCESS) REFRAX_VK(pr);
 
     REFRAX_VK(vkWaitForFences(ctx->device, 1, &frame.fence, VK_TRUE, UINT64_MAX));
-    stageMs = readTimer(timer);
+    stats.stageMs = gaussians ? renderer.surfaceMs : std::vector<std::pair<std::string, double>>{};
+    for (auto& s : readTimer(timer)) stats.stageMs.push_back(s);
     frameIndex++;
-    if (wantScreenshot) {
+    if (frameIndex > bench.warmup) {
+      addStages(bench, stats.stageMs);
+      bench.frames++;
+    }
+    if (state.screenshot) {
       char name[64];
       std::snprintf(name, sizeof name, "refrax-view-%05ld.png", frameIndex);
-      saveScreenshot(*ctx, target, name);
-      wantScreenshot = false;
+      saveScreenshot(*ctx, pixels, rw, rh, name);
+      state.screenshot = false;
     }
     if (frames > 0 && frameIndex >= frames) {
-      if (!screenshot.empty()) saveScreenshot(*ctx, target, screenshot);
-      std::printf("rendered %ld frames at %ux%u, last %.1f ms\n", frameIndex, target.width, target.height, frameMs);
+      if (!screenshot.empty()) saveScreenshot(*ctx, pixels, rw, rh, screenshot);
+      std::printf("rendered %ld frames at %ux%u, last %.1f ms\n", frameIndex, rw, rh, stats.frameMs);
       break;
+    }
+  }
+  // The wall time of the last frame is only known at the next loop start: add it here.
+  if (benchmark && bench.frames > 0) {
+    bench.wallMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - last).count();
+    std::printf("benchmark: %s | %s | %ux%u | %u Gaussians | water %s | %ld frames: %.2f FPS (%.1f ms/frame)\n", ctx->caps.name.c_str(),
+                scene ? scene->source.c_str() : "surface", stats.width, stats.height, scene ? sceneGaussianCount(*scene) : 0,
+                !scene || state.show != ShowMode::Gaussians ? "-" : effectiveWater(*scene, rs) == WaterMode::Kept ? "kept" : effectiveWater(*scene, rs) == WaterMode::Removed ? "removed" : "swapped",
+                bench.frames, 1e3 * bench.frames / bench.wallMs, bench.wallMs / bench.frames);
+    std::printf("benchmark GPU ms per frame:");
+    for (const auto& name : bench.order) std::printf(" %s %.2f", name.c_str(), bench.stageMs[name] / bench.frames);
+    std::printf("\n");
+    if (scene && state.show == ShowMode::Gaussians) {  // what the trace cost depends on
+      auto results = downloadVector<GpuTraceResult>(*ctx, renderer.results, size_t(stats.width) * stats.height);
+      double hits = 0, rounds = 0;
+      for (const auto& r : results) {
+        hits += r.hits;
+        rounds += r.rounds;
+      }
+      std::printf("benchmark trace: K %u, min transmittance %g, %.1f hits and %.2f k-buffer rounds per ray\n", scene->tracer.K,
+                  rs.minTransmittance, hits / double(results.size()), rounds / double(results.size()));
     }
   }
 
@@ -359,15 +485,34 @@ int runViewer(const cli::Args& args) {
 
 cli::Command viewerCommand() {
   auto options = cli::deviceOptions();
-  options.push_back({"surface", "KIND", "built-in water surface: flat, sine or triangle", "sine"});
-  options.push_back({"mode", "MODE", "normals or wireframe", "normals"});
+  options.push_back({"ply", "FILE", "view a 3DGS PLY instead of a run folder", ""});
+  options.push_back({"water", "MODE", "keep, remove, flat[:height], sine|triangle[:height:amplitude:wavelength:direction] or a .gltf/.glb mesh",
+                     "keep (run), remove (PLY)"});
+  options.push_back({"exact-water", "", "trace the water's subdivided proxy surface as training and refrax render do (slower)", ""});
+  options.push_back({"bake-cells", "N", "cells per side of the baked water mesh (learned or built-in surface)",
+                     "a run's grid cells << subdivision levels (its finest lattice), else 256"});
+  options.push_back({"domain", "x0,y0,x1,y1", "with --ply: the water's extent", "the Gaussians' xy bounds + 10%"});
+  options.push_back({"water-height", "Z", "with --ply: the water level of swapped-in surfaces", "0"});
+  options.push_back({"ior", "N", "index of refraction of the water", "the run's (1.33)"});
+  options.push_back({"levels", "K", "with --exact-water: subdivision levels of the water surface", "the run's"});
+  options.push_back({"k", "N", "k-buffer size of the Gaussian tracer", "the run's (16)"});
+  options.push_back({"sh", "DEGREE", "spherical-harmonics degree (0-3)", "the checkpoint's"});
+  options.push_back({"min-transmittance", "T", "stop blending a ray once its transmittance is below T (faster, less exact)", "0.001"});
+  options.push_back({"heatmap", "", "show the hit-count heat map instead of colour", ""});
+  options.push_back({"heat-scale", "HITS", "hits per pixel shown at the heat map's top colour", "64"});
+  options.push_back({"view", "SPLIT:INDEX", "start at a dataset camera (e.g. test:0)", ""});
+  options.push_back({"mode", "MODE", "gaussians, normals or wireframe (the last two: the surface alone)", "gaussians (normals without a scene)"});
+  options.push_back({"surface", "KIND", "without a scene: built-in surface flat, sine or triangle", "sine"});
   options.push_back({"camera", "x,y,z,tx,ty,tz", "start camera position and target", "0,-2.2,1.6,0,0,0"});
+  options.push_back({"fov", "DEG", "vertical field of view", "43.6"});
   options.push_back({"width", "PIXELS", "window width", "800"});
   options.push_back({"height", "PIXELS", "window height", "600"});
+  options.push_back({"size", "PIXELS", "square window of this side (overrides --width/--height)", ""});
   options.push_back({"frames", "N", "render N frames, then exit", ""});
   options.push_back({"screenshot", "FILE", "with --frames: save the last render as PNG", ""});
+  options.push_back({"benchmark", "", "with --frames: print FPS and GPU ms per stage (after a warm-up)", ""});
   return {"refrax-view", "interactive viewer: fly camera, water on/removed/swapped, per-stage timings",
-          "refrax-view [options]", options, runViewer};
+          "refrax-view [RUN | --ply FILE] [options]", options, runViewer};
 }
 
 }  // namespace
@@ -380,7 +525,6 @@ int main(int argc, char** argv) {
       cli::printHelp(command);
       return 0;
     }
-    if (!args.positional.empty()) fail("unexpected argument '" + args.positional[0] + "'");
     return runViewer(args);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "refrax-view: error: %s\n", e.what());

@@ -98,8 +98,8 @@ TraceResultD traceRayRef(const std::vector<double>& p, const RayD& ray, const Tr
     res.depth += T * alpha * h.t;
     T *= 1 - alpha;
     res.hits++;
-    res.margin = std::min(res.margin, relDist(T, kMinTransmittance));
-    if (T < kMinTransmittance) break;
+    res.margin = std::min(res.margin, relDist(T, options.minTransmittance));
+    if (T < options.minTransmittance) break;
   }
   for (int c = 0; c < 3; c++) res.rgb[c] = rgb[c] + T * options.background[c];
   res.transmittance = T;
@@ -163,7 +163,7 @@ RayGradD traceRayBackwardRef(const std::vector<double>& p, const RayD& ray, cons
     }
     if (stats) (*stats)[2 * h.id + 1] += 1;
     T *= oneMinus;
-    if (T < kMinTransmittance) break;
+    if (T < options.minTransmittance) break;
   }
   dDir += normalizeBackward(d, dDirUnit);
   for (int a = 0; a < 3; a++) {

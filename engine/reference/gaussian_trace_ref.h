@@ -22,6 +22,7 @@ RayD toRayD(const GpuRay& r);
 struct TraceOptionsD {
   double background[3] = {0, 0, 0};
   uint32_t shDegree = 3;
+  double minTransmittance = 1e-3;  // the forward's early stop (TraceOptions::minTransmittance)
   bool useStatisticsViewpoint = false;  // TraceOptions::statisticsViewpoint
   double statisticsViewpoint[3] = {0, 0, 0};
 };

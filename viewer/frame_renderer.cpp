@@ -1,0 +1,158 @@
+#include "viewer/frame_renderer.h"
+
+#include <cmath>
+
+#include "engine/builtin_surface_spec.h"
+#include "engine/error.h"
+#include "engine/grid_mesh.h"
+#include "engine/io/gltf_surface.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
+
+namespace refrax {
+
+namespace {
+
+std::string describe(const BuiltinSurface& b) {
+  char text[160];
+  std::snprintf(text, sizeof text, "%s %.9g %.9g %.9g %.9g", b.kind.c_str(), b.height, b.amplitude, b.wavelength, b.directionDeg);
+  return text;
+}
+
+void ensureCapacity(FrameRenderer& r, uint32_t n) {
+  if (n <= r.capacity) return;
+  vkDeviceWaitIdle(r.ctx->device);
+  r.capacity = n;
+  r.rays = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuRay));
+  r.refracted = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuRay));
+  r.records = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(SurfaceRecord));
+  r.flags = createBuffer(*r.ctx, VkDeviceSize(n) * 4);
+  r.results = createBuffer(*r.ctx, VkDeviceSize(n) * sizeof(GpuTraceResult));
+  r.pixels = createBuffer(*r.ctx, VkDeviceSize(n) * 4);
+}
+
+}  // namespace
+
+FrameRenderer createFrameRenderer(Context& ctx) {
+  FrameRenderer r;
+  r.ctx = &ctx;
+  r.rayPipelines = createCameraRayPipelines(ctx);
+  r.compose = createViewComposePipeline(ctx);
+  return r;
+}
+
+WaterMode effectiveWater(const ViewScene& scene, const RenderSettings& s) {
+  if (s.water == WaterMode::Kept && !learnedWater(scene)) return WaterMode::Removed;
+  return s.water;
+}
+
+namespace {
+
+// The water as a mesh: rebuilt when what it is made of changes.
+void ensureMesh(FrameRenderer& r, ViewScene& scene, WaterMode water, const RenderSettings& s) {
+  Context& ctx = *r.ctx;
+  const SurfaceDomain& d = scene.domain;
+  char grid[160];
+  std::snprintf(grid, sizeof grid, " | %u cells over %.9g %.9g %.9g %.9g", s.bakeCells, d.x0, d.y0, d.x1, d.y1);
+  std::string key = water == WaterMode::Kept ? "learned " + std::to_string(scene.generation) + grid
+                    : !s.swapMesh.empty()   ? "gltf " + s.swapMesh
+                                            : "builtin " + describe(s.swap) + grid;
+  if (r.mesh && r.meshKey == key) return;
+  SurfaceMesh mesh;
+  if (water == WaterMode::Kept) {
+    mesh = bakeHeightMesh(ctx, *learnedWater(scene), d, s.bakeCells, s.bakeCells);
+  } else if (!s.swapMesh.empty()) {
+    mesh = readSurfaceGltf(s.swapMesh);
+  } else {
+    mesh = surfaceMeshFromGrid(makeGridMesh(s.bakeCells, s.bakeCells, d.x0, d.y0, d.x1, d.y1, surfaceHeightFunction(s.swap)));
+  }
+  vkDeviceWaitIdle(ctx.device);
+  r.mesh.reset();
+  r.mesh.emplace(createMeshSurface(ctx, mesh));
+  r.meshKey = key;
+}
+
+}  // namespace
+
+void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s) {
+  Context& ctx = *r.ctx;
+  uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  ensureCapacity(r, n);
+  WaterMode water = effectiveWater(scene, s);
+  r.surfaceMs.clear();
+  bool closedForm = water == WaterMode::Kept || (s.swapMesh.empty() && s.swap.kind != "triangle");
+  r.path = water == WaterMode::Removed              ? FrameRenderer::Path::Straight
+           : s.exactWater && closedForm             ? FrameRenderer::Path::Subdivided
+                                                    : FrameRenderer::Path::Mesh;
+  if (r.path == FrameRenderer::Path::Straight) return;
+  if (r.path == FrameRenderer::Path::Mesh) {
+    ensureMesh(r, scene, water, s);
+    return;
+  }
+
+  WaterSurfaceConfig wc;
+  wc.domain = scene.domain;
+  wc.gridCells = s.gridCells;
+  wc.subdivisionLevels = s.subdivisionLevels;
+  wc.ior = s.ior;
+  wc.maxRays = r.capacity;
+  char shape[160];
+  std::snprintf(shape, sizeof shape, "%.9g %.9g %.9g %.9g %u %u %u", wc.domain.x0, wc.domain.y0, wc.domain.x1, wc.domain.y1, wc.gridCells,
+                wc.subdivisionLevels, wc.maxRays);
+  if (!r.surface || r.surfaceShape != shape) {
+    vkDeviceWaitIdle(ctx.device);
+    r.surface.reset();
+    r.surface.emplace(createWaterSurface(ctx, wc));
+    r.surfaceShape = shape;
+    r.surfaceHeights.clear();
+  }
+  r.surface->config.ior = s.ior;
+  // As renderView: the learned surface with the normals of its training phase, a swapped-in one smooth.
+  r.surface->config.faceNormals = water == WaterMode::Kept && scene.session && scene.session->step <= scene.session->config.schedule.faceNormalsUntil;
+
+  HeightSource source;
+  std::string heights;
+  if (water == WaterMode::Kept) {
+    source = *learnedWater(scene);
+    heights = "learned " + std::to_string(scene.generation);
+  } else {
+    heights = "swap " + describe(s.swap);
+    if (r.surfaceHeights != heights) r.swapField.emplace(createAnalyticHeightField(ctx, builtinSurfaceWaves(s.swap)));
+    source = heightSource(*r.swapField);
+  }
+  if (r.surfaceHeights != heights) {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *r.surface, source); });
+    r.surfaceHeights = heights;
+  }
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, r.rayPipelines, camera, r.rays, 0.0f, 1e6f); });
+  SurfaceTimings timings;
+  traceSurface(ctx, *r.surface, source, r.rays, n, r.refracted, r.records, ctx.caps.timestamps ? &timings : nullptr);
+  double total = 0;
+  for (auto& [stage, ms] : timings) total += ms;
+  if (!timings.empty()) r.surfaceMs.push_back({"surface", total});
+}
+
+void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s,
+                    GpuTimer& timer) {
+  uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  if (n > r.capacity) fail("cmdRenderFrame before prepareFrame for this size");
+  if (r.path != FrameRenderer::Path::Subdivided) {
+    cmdCameraRays(cb, r.rayPipelines, camera, r.rays, 0.0f, 1e6f);
+    cmdTimerStamp(cb, timer, "rays");
+  }
+  if (r.path == FrameRenderer::Path::Mesh) {
+    cmdRefractThroughMesh(cb, *r.mesh, r.rays, n, s.ior, r.refracted, r.flags);
+    cmdTimerStamp(cb, timer, "water");
+  }
+  TraceOptions opt;
+  for (int ch = 0; ch < 3; ch++) opt.background[ch] = scene.background[ch];
+  opt.shDegree = std::min(s.shDegree, 3u);
+  opt.minTransmittance = s.minTransmittance;
+  cmdBarrier(cb);
+  cmdTraceForward(cb, scene.tracer, sceneProxies(scene), sceneGaussians(scene), r.path != FrameRenderer::Path::Straight ? r.refracted : r.rays, r.results, n, opt);
+  cmdTimerStamp(cb, timer, "gaussians");
+  cmdComposeView(cb, r.compose, r.results, r.pixels, n, s.compose);
+  cmdTimerStamp(cb, timer, "compose");
+}
+
+}  // namespace refrax

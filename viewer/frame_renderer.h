@@ -1,0 +1,81 @@
+#pragma once
+// One viewer frame of the Gaussians: camera rays -> (water kept or swapped: refraction at the
+// surface) -> Gaussian forward trace -> RGBA8 pixels (colour or hit heat map), the same stages
+// and inputs as `refrax render` (engine/train/render_run.cpp), so a screenshot equals its PNG.
+//
+// Two ways through the water:
+//  - baked (the default, the fast path): the water as a triangle mesh (engine/mesh_surface.h):
+//    the learned height field baked once per loaded checkpoint on a bakeCells^2 grid over its
+//    domain (the paper's surface precomputed at render resolution), a built-in surface on the
+//    same grid, or a glTF mesh; one ray query per ray, recorded in the frame's command buffer
+//    with everything else (no host round trip);
+//  - exact: the trainer's subdivided proxy surface (traceSurface, as training and `refrax
+//    render` trace it), which submits and reads back once per subdivision level, so
+//    prepareFrame runs the rays and the surface before the frame's command buffer.
+// A triangle wave or a glTF mesh has no height field to subdivide: it is always a mesh.
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/analytic_height.h"
+#include "engine/builtin_surfaces.h"
+#include "engine/camera.h"
+#include "engine/camera_rays.h"
+#include "engine/mesh_surface.h"
+#include "engine/view_compose.h"
+#include "engine/vk_timer.h"
+#include "engine/water_surface.h"
+#include "viewer/view_scene.h"
+
+namespace refrax {
+
+enum class WaterMode : int { Kept = 0, Removed = 1, Swapped = 2 };
+
+struct RenderSettings {
+  WaterMode water = WaterMode::Kept;
+  BuiltinSurface swap;    // the surface swapped in: flat, sine or triangle ...
+  std::string swapMesh;   // ... or this glTF mesh when not empty
+  bool exactWater = false;   // the subdivided proxy surface instead of the baked mesh
+  uint32_t bakeCells = 256;  // cells per side of the baked grid (a run: gridCells << levels, its finest lattice)
+  float ior = 1.33f;
+  uint32_t subdivisionLevels = 2;
+  uint32_t gridCells = 64;
+  uint32_t shDegree = 3;
+  float minTransmittance = TraceOptions{}.minTransmittance;
+  ComposeOptions compose;
+};
+
+struct FrameRenderer {
+  Context* ctx = nullptr;
+  CameraRayPipelines rayPipelines;
+  ComputePipeline compose;
+  uint32_t capacity = 0;
+  Buffer rays, refracted, records, flags, results, pixels;
+
+  enum class Path { Straight, Subdivided, Mesh } path = Path::Straight;  // this frame's way through the water
+  std::optional<MeshSurface> mesh;
+  std::string meshKey;  // what the mesh was built from
+
+  std::optional<WaterSurface> surface;
+  std::optional<AnalyticHeightField> swapField;
+  std::string surfaceShape;    // domain, cells, levels, capacity the surface was created for
+  std::string surfaceHeights;  // what its coarse heights were lifted from (source + model generation)
+  std::vector<std::pair<std::string, double>> surfaceMs;  // GPU ms of the last traceSurface
+};
+
+FrameRenderer createFrameRenderer(Context& ctx);
+
+// Water modes that need no surface fall back to Removed: a PLY or a run without refraction
+// has no water to keep. Returns the mode that will be rendered.
+WaterMode effectiveWater(const ViewScene& scene, const RenderSettings& settings);
+
+// Sizes the buffers for camera.width * camera.height rays and, with water, traces the
+// camera rays through the surface (submits and waits).
+void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& settings);
+// Records the rest of the frame into cb (camera rays when there is no water, the Gaussian
+// trace, the compose into r.pixels), stamping `timer` after each stage.
+void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& settings,
+                    GpuTimer& timer);
+
+}  // namespace refrax
