@@ -3,6 +3,7 @@
 // convention, and clear errors on bad arguments.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -10,6 +11,7 @@
 
 #include "engine/error.h"
 #include "engine/io/atomic_file.h"
+#include "engine/io/image_io.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
 #include "engine/synth/render_view.h"
@@ -223,6 +225,39 @@ TEST_CASE("synth: the same seed gives byte-identical datasets and another seed a
   int entries = 0;
   for (auto& e : fs::directory_iterator(dir.path)) entries += 1 + 0 * e.is_directory();
   CHECK(entries == 3);
+}
+
+TEST_CASE("synth: --width and the wave scales vary a preset, bad values are one clear error") {
+  TempDir dir;
+  auto base = test::runCli("synth nerfrac-primary-sine --size tiny -o " + (dir / "a"));
+  auto varied = test::runCli("synth nerfrac-primary-sine --size tiny --width 40 --wave-amplitude 2 --wavelength 0.8 -o " + (dir / "b"));
+  INFO(base.output << varied.output);
+  REQUIRE(base.exitCode == 0);
+  REQUIRE(varied.exitCode == 0);
+  auto a = readJson(dir / "a/water.json")["surface"]["directional_waves"][0], b = readJson(dir / "b/water.json")["surface"]["directional_waves"][0];
+  CHECK(b["amplitude"].get<double>() == doctest::Approx(2 * a["amplitude"].get<double>()).epsilon(1e-12));
+  CHECK(b["wavelength"].get<double>() == doctest::Approx(0.8 * a["wavelength"].get<double>()).epsilon(1e-12));
+  CHECK(b["direction_deg"].get<double>() == doctest::Approx(a["direction_deg"].get<double>()).epsilon(1e-12));
+  CHECK(b["phase"].get<double>() == a["phase"].get<double>());
+  auto ta = readJson(dir / "a/transforms_train.json"), tb = readJson(dir / "b/transforms_train.json");
+  CHECK(tb["w"].get<int>() == 40);
+  CHECK(tb["h"].get<int>() == 40);
+  CHECK(tb["camera_angle_x"].get<double>() == doctest::Approx(ta["camera_angle_x"].get<double>()).epsilon(1e-12));
+  CHECK(readPng(dir / "b/train/000.png").width == 40);
+  // The ground-truth height map follows the scaled waves.
+  NpyArray ha = readNpy(dir / "a/water_gt_height.npy"), hb = readNpy(dir / "b/water_gt_height.npy");
+  double ma = 0, mb = 0;
+  for (double v : ha.data) ma = std::max(ma, std::abs(v));
+  for (double v : hb.data) mb = std::max(mb, std::abs(v));
+  CHECK(mb == doctest::Approx(2 * ma).epsilon(0.05));
+
+  for (const char* bad : {"--wave-amplitude 0", "--wavelength -1", "--width 4", "--wave-amplitude 40"}) {
+    auto r = test::runCli(std::string("synth nerfrac-primary-sine --size tiny ") + bad + " -o " + (dir / "c"));
+    INFO(bad << ": " << r.output);
+    CHECK(r.exitCode != 0);
+    CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+    CHECK(!fs::exists(dir / "c"));
+  }
 }
 
 TEST_CASE("synth: poses_bounds.npy holds the same cameras as the Blender transforms") {

@@ -65,6 +65,11 @@ int runSynth(const cli::Args& args) {
   auto start = std::chrono::steady_clock::now();
   synth::SynthPreset preset = synth::makeSynthPreset(name, size == "tiny" ? synth::SynthSize::Tiny : synth::SynthSize::Full,
                                                      uint64_t(seed), findTextureDir(args));
+  synth::SynthVariation variation;
+  variation.width = int(args.getInt("width", 0));
+  variation.amplitudeScale = args.getDouble("wave-amplitude", 1.0);
+  variation.wavelengthScale = args.getDouble("wavelength", 1.0);
+  synth::applySynthVariation(preset, variation);
   synth::SynthWriteOptions o;
   o.seed = uint64_t(seed);
   o.sizeName = size;
@@ -88,6 +93,9 @@ REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-tr
                 {{"output", "DIR", "(or -o DIR) output folder; must not exist or be empty; appears only when complete", ""},
                  {"size", "tiny|full", "tiny: small images and simple geometry for CI", "full"},
                  {"seed", "N", "seed for the wave phases / spectrum and the antialiasing jitter", "1"},
+                 {"width", "N", "image width in pixels (height and field of view follow); default: the size's", ""},
+                 {"wave-amplitude", "X", "every wave's amplitude times X (wave-slope sweeps)", "1"},
+                 {"wavelength", "X", "every wavelength times X", "1"},
                  {"textures", "DIR", "texture folder (also REFRAX_TEXTURES); default: the repository's assets/textures", ""}},
                 runSynth});
 

@@ -1,6 +1,7 @@
 #include "engine/synth/synth_presets.h"
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "engine/error.h"
@@ -57,6 +58,14 @@ struct MaterialSet {
     return int(scene.materials.size()) - 1;
   }
 };
+
+// Every object must lie below the lowest trough (see render_view.cpp).
+void checkSceneBelowWater(const SynthPreset& p) {
+  double top = -1e300;
+  for (const auto& t : p.scene.bvh.triangles)
+    for (const auto& v : t.p) top = std::max(top, v.z);
+  if (top >= p.water.meanHeight - waveHeightBound(p.water)) fail("synth preset " + p.name + ": the waves reach into the scene under the water");
+}
 
 DirectionalWave sineAlong(double amplitude, double wavelength, double directionDeg, double phase) {
   double k = 2 * kPi / wavelength;
@@ -239,12 +248,42 @@ SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t se
                       "nearer the centre, IOR 1.33";
     }
   }
-  // Every object must lie below the lowest trough (see render_view.cpp).
-  double top = -1e300;
-  for (const auto& t : p.scene.bvh.triangles)
-    for (const auto& v : t.p) top = std::max(top, v.z);
-  if (top >= p.water.meanHeight - waveHeightBound(p.water)) fail("synth preset " + name + ": scene reaches into the water surface");
+  checkSceneBelowWater(p);
   return p;
+}
+
+void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
+  auto positive = [](double x) { return std::isfinite(x) && x > 0; };
+  if (!positive(v.amplitudeScale)) fail("synth: the wave amplitude scale must be a positive number");
+  if (!positive(v.wavelengthScale)) fail("synth: the wavelength scale must be a positive number");
+  if (v.width != 0 && (v.width < 8 || v.width > 8192)) fail("synth: the image width must be in 8..8192");
+  for (auto& w : p.water.waves) {
+    w.amplitude *= v.amplitudeScale;
+    w.kx /= v.wavelengthScale;
+    w.ky /= v.wavelengthScale;
+  }
+  for (auto& r : p.water.ripples) {
+    r.amplitude *= v.amplitudeScale;
+    r.k /= v.wavelengthScale;
+  }
+  if (v.amplitudeScale != 1 || v.wavelengthScale != 1) {
+    char what[96];
+    std::snprintf(what, sizeof what, " (amplitudes x%g, wavelengths x%g)", v.amplitudeScale, v.wavelengthScale);
+    p.surfaceDescription += what;
+    p.description += what;
+  }
+  if (v.width != 0)
+    for (auto* cams : {&p.train, &p.test, &p.air})
+      for (auto& c : *cams) {
+        double s = double(v.width) / c.width;
+        c.height = std::max(1, int(std::lround(c.height * s)));
+        c.width = v.width;
+        c.fx *= s;
+        c.fy *= s;
+        c.cx *= s;
+        c.cy *= s;
+      }
+  checkSceneBelowWater(p);
 }
 
 }  // namespace refrax::synth

@@ -33,6 +33,16 @@ bool isSynthPreset(const std::string& name);
 // Builds the named preset; textures are read from textureDir (assets/textures).
 // refrax::Error on an unknown name or a missing texture.
 SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t seed, const std::string& textureDir);
+// A preset varied for sweeps and for regimes the defaults do not reach (refrax synth --width,
+// --wave-amplitude, --wavelength): every camera resized to `width` pixels wide (0: kept; the
+// field of view and aspect kept), every wave's amplitude times amplitudeScale and wavelength
+// times wavelengthScale (directions and phases kept). refrax::Error for a scale <= 0 or
+// non-finite, a width outside 8..8192, or waves that would reach the scene.
+struct SynthVariation {
+  int width = 0;
+  double amplitudeScale = 1, wavelengthScale = 1;
+};
+void applySynthVariation(SynthPreset& preset, const SynthVariation& variation);
 // Textures by file stem from textureDir, as RGB.
 SynthTexture loadSynthTexture(const std::string& textureDir, const std::string& stem);
 
