@@ -166,6 +166,23 @@ TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refus
   CHECK(!fs::exists(dir / "hybrid"));
 }
 
+TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives config.json, and is validated") {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  // Adam's first step moves each parameter by the learning rate (|m / sqrt(v)| = 1), so a flat
+  // plane unfrozen from step 0 ends one step at +-0.02 from its start (the water height, 0).
+  nlohmann::json m = test::trainAndReadMetrics(
+      data, dir / "flat", " --flat-water --surface-lr 0.02 --surface-freeze 0 --lr-steps 100000000 --steps 1 --gaussians 200 --patch 16 --checkpoint-every 0");
+  CHECK(std::abs(m["flat_water_height"].get<double>()) == doctest::Approx(0.02).epsilon(1e-3));
+  TrainConfig c = trainConfigFromJson(readJson(dir / "flat/config.json"), "config.json");
+  CHECK(c.surfaceLearningRate == 0.02);
+  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").surfaceLearningRate == 0.02);
+  for (double bad : {0.0, -1e-3, 1.0, double(NAN)}) {
+    c.surfaceLearningRate = bad;
+    CHECK_THROWS_AS(validateTrainConfig(c), Error);
+  }
+}
+
 // Runs `refrax train` on a broken copy of the tiny dataset: one clear error naming `expect`,
 // a non-zero exit and no run folder.
 void expectCleanFailure(const std::string& dataset, const std::string& run, const std::string& expect) {

@@ -51,6 +51,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.mlpHiddenLayers = positiveCount(a, "mlp-layers", 3, 1, 8);
   c.mlpOctaves = positiveCount(a, "mlp-octaves", 6, 0, 16);
   c.mlpInitRange = a.getDouble("mlp-init-range", 1e-3);
+  c.surfaceLearningRate = a.getDouble("surface-lr", 5e-4);
   c.gridCells = positiveCount(a, "grid-cells", 64, 1, 4096);
   c.subdivisionLevels = positiveCount(a, "subdivision", 2, 0, 6);
   c.patch = positiveCount(a, "patch", 0, 0, 16384);
@@ -140,6 +141,7 @@ std::vector<cli::Option> trainOptions() {
       {"mlp-layers", "L", "height-field MLP hidden layers", "3"},
       {"mlp-octaves", "O", "height-field frequency-encoding octaves", "6"},
       {"mlp-init-range", "X", "height-field last layer initialised in +-X (reference 0.1)", "0.001"},
+      {"surface-lr", "X", "surface learning rate at step 0 (MLP weights, or the flat height), decaying to X/100 (reference 5e-4)", "5e-4"},
       {"grid-cells", "N", "water-surface proxy mesh cells per side", "64"},
       {"subdivision", "K", "recursive subdivision levels of the surface trace", "2"},
       {"patch", "P", "train on one random P x P patch per step (0: whole images); ~P^2/(w h) of the time per step", "0"},

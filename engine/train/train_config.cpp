@@ -66,6 +66,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.kBuffer >= 1 && c.kBuffer <= 64, "--k-buffer must be 1..64");
   need(c.mlpWidth >= 1 && c.mlpHiddenLayers >= 1 && c.mlpOctaves <= 16, "height field sizes (--mlp-width, --mlp-layers >= 1, --mlp-octaves <= 16)");
   need(std::isfinite(c.mlpInitRange) && c.mlpInitRange >= 0, "--mlp-init-range must be >= 0");
+  need(std::isfinite(c.surfaceLearningRate) && c.surfaceLearningRate > 0 && c.surfaceLearningRate < 1, "--surface-lr must be in (0, 1)");
   need(c.gridCells >= 1 && c.gridCells <= 4096, "--grid-cells must be 1..4096");
   need(c.subdivisionLevels <= 6, "--subdivision must be 0..6");
   need(std::isfinite(c.ior) && c.ior >= 1 && c.ior < 4, "the IOR must be in [1, 4)");
@@ -114,6 +115,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["mlp_hidden_layers"] = c.mlpHiddenLayers;
   j["mlp_octaves"] = c.mlpOctaves;
   j["mlp_init_range"] = c.mlpInitRange;
+  j["surface_lr"] = c.surfaceLearningRate;
   j["grid_cells"] = c.gridCells;
   j["subdivision_levels"] = c.subdivisionLevels;
   const ScheduleSteps& k = c.schedule;
@@ -173,6 +175,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.mlpHiddenLayers = j.at("mlp_hidden_layers").get<uint32_t>();
     c.mlpOctaves = j.at("mlp_octaves").get<uint32_t>();
     c.mlpInitRange = j.at("mlp_init_range").get<double>();
+    c.surfaceLearningRate = j.value("surface_lr", 5e-4);  // runs written before the option: the reference
     c.gridCells = j.at("grid_cells").get<uint32_t>();
     c.subdivisionLevels = j.at("subdivision_levels").get<uint32_t>();
     const auto& s = j.at("schedule");

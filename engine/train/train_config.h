@@ -61,6 +61,9 @@ struct TrainConfig {
   // Last-layer initial range: the reference's 0.1 starts a 64-wide MLP with height noise of
   // about +-0.3 (larger than the waves of the scenes); a small range starts nearly flat.
   double mlpInitRange = 1e-3;
+  // Adam learning rate of the surface (MLP weights, or the flat plane's height) at step 0,
+  // decaying exponentially to 1/100 of it over lrSteps; reference 5e-4 (DESIGN 1.6).
+  double surfaceLearningRate = 5e-4;
   uint32_t gridCells = 64, subdivisionLevels = 2;
 
   // Schedule and its resolved values.

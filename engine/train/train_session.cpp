@@ -39,6 +39,16 @@ void allocateRayBuffers(TrainSession& s, uint32_t n) {
   s.rayGrads = createBuffer(ctx, size_t(n) * sizeof(GpuRayGrad));
 }
 
+// The reference height-MLP schedule (5e-4 -> 5e-6) scaled to the configured start.
+LearningRateSchedule surfaceLearningRate(const TrainConfig& c) {
+  LearningRateSchedule lr = referenceLearningRate("height_mlp", c.extent);
+  double scale = c.surfaceLearningRate / lr.initial;
+  lr.initial *= scale;
+  lr.final *= scale;
+  lr.steps = c.schedule.lrSteps;
+  return lr;
+}
+
 void allocateGaussianBuffers(TrainSession& s) {
   size_t n = std::max<size_t>(1, s.gaussians.count());
   s.grads = createBuffer(*s.ctx, n * kGaussianFloats * 4);
@@ -156,8 +166,7 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
     hc.domainMax[0] = float(config.domain.xMax);
     hc.domainMax[1] = float(config.domain.yMax);
     s->height.emplace(createHeightField(ctx, hc, uint32_t(config.seed * 7919u + 3u)));
-    LearningRateSchedule lr = referenceLearningRate("height_mlp", config.extent);
-    lr.steps = config.schedule.lrSteps;
+    LearningRateSchedule lr = surfaceLearningRate(config);
     s->heightAdam = createAdamGroup(ctx, "height_mlp", lr, 1, uint32_t(s->height->parameterCount));
     s->heightGrad = createBuffer(ctx, s->height->parameterCount * 4);
     fillBuffer(ctx, s->heightGrad, 0);
@@ -193,8 +202,7 @@ double planeHeightGradient(TrainSession& s) {
 }
 
 void planeAdamStep(TrainSession& s, double grad) {
-  LearningRateSchedule lr = referenceLearningRate("height_mlp", s.config.extent);
-  lr.steps = s.config.schedule.lrSteps;
+  LearningRateSchedule lr = surfaceLearningRate(s.config);
   AdamSettings a;
   s.planeStep++;
   s.planeM = a.beta1 * s.planeM + (1 - a.beta1) * grad;
