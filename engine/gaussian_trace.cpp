@@ -28,6 +28,7 @@ struct PreparePush {
 constexpr uint32_t kTraceGaussianBytes = 48;
 constexpr uint32_t kInstanceBytes = sizeof(VkAccelerationStructureInstanceKHR);
 static_assert(kInstanceBytes == 64, "instance layout written by gaussian_prepare.comp");
+static_assert(sizeof(Box) == 6 * sizeof(float), "gaussianProxyBox writes a Box as six floats");
 
 std::vector<SpecConstant> traceSpec(uint32_t K, ProxyKind kind) { return {{0, K}, {1, kind == ProxyKind::InstancedUnitBox ? 1u : 0u}}; }
 
@@ -56,8 +57,9 @@ const ComputePipeline& preparePipeline(GaussianTracer& t) {
   return t.prepare;
 }
 
-// The same box as gaussian_prepare.comp, on the host, only to choose the order.
-Box hostProxyBox(const float* g) {
+}  // namespace
+
+void gaussianProxyBox(const float* g, float box[6]) {
   using namespace f64;
   real3 mu(g[kGaussMean], g[kGaussMean + 1], g[kGaussMean + 2]);
   real3x3 R = rotationOf(real4(g[kGaussRotation], g[kGaussRotation + 1], g[kGaussRotation + 2], g[kGaussRotation + 3]));
@@ -65,8 +67,13 @@ Box hostProxyBox(const float* g) {
   real radius = proxyRadiusOf(sigmoidOf(g[kGaussLogitDensity]));
   real3 e;
   for (int a = 0; a < 3; a++) e[a] = radius * length(real3(R[0][a] * s.x, R[1][a] * s.y, R[2][a] * s.z));
-  return {float(mu.x - e.x), float(mu.y - e.y), float(mu.z - e.z), float(mu.x + e.x), float(mu.y + e.y), float(mu.z + e.z)};
+  for (int a = 0; a < 3; a++) {
+    box[a] = float(mu[a] - e[a]);
+    box[3 + a] = float(mu[a] + e[a]);
+  }
 }
+
+namespace {
 
 // Rays from the host: a NaN or zero direction would turn into NaN colours and gradients.
 void validateRays(const std::vector<GpuRay>& rays) {
@@ -125,7 +132,7 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
   p.count = gaussians.count;
   p.allowUpdate = allowUpdate;
   std::vector<Box> boxes(p.count);
-  for (uint32_t i = 0; i < p.count; i++) boxes[i] = hostProxyBox(host.at(i));
+  for (uint32_t i = 0; i < p.count; i++) gaussianProxyBox(host.at(i), &boxes[i].minX);
   p.order = medianSplitOrder(boxes);
   p.orderBuffer = createBufferFrom(ctx, p.order);
   p.trace = createBuffer(ctx, VkDeviceSize(p.count) * kTraceGaussianBytes);

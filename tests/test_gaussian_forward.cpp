@@ -26,7 +26,7 @@ void checkForwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind kin
   std::uniform_int_distribution<int> count(1000, 2000);
   GaussianSet set = randomGaussians(rng, size_t(count(rng)), testGaussianOptions());
   DeviceGaussians dev = uploadGaussians(ctx, set);
-  GaussianTracer tracer = createGaussianTracer(ctx);
+  GaussianTracer tracer = createGaussianTracer(ctx, 16);  // below the default K: many rays need several rounds
   GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, kind);
   auto rays = raysIntoVolume(rng, 1500);
   TraceOptions opt = randomBackground(rng);
@@ -240,4 +240,56 @@ TEST_CASE("the tracer's precision-matrix kernel equals the M-form kernel of the 
   }
   CHECK(worstM < 1e-9);
   CHECK(worstT < 1e-12);
+}
+
+TEST_CASE("Gaussian proxy radius is where acceptance ends, zero below alpha 1 over 255") {
+  using namespace refrax::f64;
+  int faint = 0, bounded = 0;
+  for (int i = 0; i <= 400; i++) {
+    real density = std::pow(real(10), real(-4) + real(4) * real(i) / real(400));  // 1e-4 .. 1
+    if (density >= real(1)) density = real(0.999);
+    real r = proxyRadiusOf(density);
+    INFO("density " << density << ", radius " << r);
+    if (density < kMinAlpha) {
+      faint++;
+      CHECK(r == real(0));
+      CHECK(acceptedAlpha(real(0), density) == real(0));  // not even a ray through the mean
+      continue;
+    }
+    bounded++;
+    // just inside the radius accepted, just outside rejected: the box holds every accepted
+    // peak and nothing more
+    CHECK(acceptedAlpha(r * r * (real(1) - real(1e-9)), density) > real(0));
+    CHECK(acceptedAlpha(r * r * (real(1) + real(1e-9)) + real(1e-12), density) == real(0));
+  }
+  CHECK(faint > 50);
+  CHECK(bounded > 200);
+}
+
+GPU_TEST_CASE("Gaussian forward matches the double reference with faint Gaussians") {
+  // Trained scenes hold many Gaussians near and below the cut-offs (density 1/255 .. 0.0113),
+  // whose proxies shrink to the alpha 1/255 boundary or to a point.
+  GaussianSet set = randomGaussians(rng, 1500, testGaussianOptions());
+  std::uniform_real_distribution<double> faintDensity(0.002, 0.02);
+  for (size_t i = 0; i < set.count(); i += 2) {
+    double d = faintDensity(rng);
+    set.at(i)[f32::kGaussLogitDensity] = float(std::log(d / (1 - d)));
+  }
+  DeviceGaussians dev = uploadGaussians(ctx, set);
+  GaussianTracer tracer = createGaussianTracer(ctx);
+  GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
+  auto rays = raysIntoVolume(rng, 1000);
+  TraceOptions opt = randomBackground(rng);
+  auto gpu = traceGaussians(ctx, tracer, proxies, dev, rays, opt);
+  auto cmp = compareForward(set, rays, gpu, toOptionsD(opt));
+  INFO(set.count() << " Gaussians; first problem: " << cmp.firstProblem);
+  INFO("worst colour rel " << cmp.worstColorRel << ", opacity " << cmp.worstOpacity << ", depth rel " << cmp.worstDepthRel
+                           << ", mean hits " << cmp.meanHits << ", skipped " << cmp.skippedNearThreshold);
+  CHECK(cmp.poisoned == 0);
+  CHECK(cmp.compared >= rays.size() * 95 / 100);
+  CHECK(cmp.meanHits > 5);
+  CHECK(cmp.hitCountMismatch == 0);
+  CHECK(cmp.worstColorRel <= 1e-4);
+  CHECK(cmp.worstOpacity <= 1e-5);
+  CHECK(cmp.worstDepthRel <= 1e-4);
 }

@@ -151,7 +151,7 @@ int runBenchTracer(const cli::Args& args) {
   auto ctx = cli::openContext(args);
   const int runs = int(args.getInt("runs", 3));
   const uint32_t size = uint32_t(args.getInt("size", 392));
-  const uint32_t K = uint32_t(args.getInt("k", 16));
+  const uint32_t K = uint32_t(args.getInt("k", kDefaultKBuffer));
   const long shDegreeArg = args.getInt("sh-degree", 3);
   if (shDegreeArg < 0 || shDegreeArg > 3) fail("--sh-degree must be 0..3");
   const uint32_t shDegree = uint32_t(shDegreeArg);
@@ -275,7 +275,7 @@ REFRAX_BENCH_SUITE({"tracer",
                     {{"probe", "PATH", "rqprobe binary to run on the same scenes in the same run (bench/tracer.sh builds it)", ""},
                      {"runs", "N", "timed runs per measurement (median)", "3"},
                      {"size", "PIXELS", "image side in rays", "392"},
-                     {"k", "K", "k-buffer size", "16"},
+                     {"k", "K", "k-buffer size", std::to_string(kDefaultKBuffer)},
                      {"sh-degree", "D", "SH degree evaluated (the probe evaluates no colour)", "3"},
                      {"counts", "N,N", "Gaussian counts", "10000,100000"},
                      {"out", "FILE", "write the figures as JSON", ""}},

@@ -49,7 +49,7 @@ int runRenderGaussians(const cli::Args& args) {
   if (degree < 0 || degree > 3) fail("--sh-degree must be 0..3");
 
   auto ctx = cli::openContext(args);
-  GaussianTracer tracer = createGaussianTracer(*ctx, uint32_t(args.getInt("k", 16)));
+  GaussianTracer tracer = createGaussianTracer(*ctx, uint32_t(args.getInt("k", kDefaultKBuffer)));
   ProxyKind kind = proxyKindFor(args.get("proxy", "auto"), ctx->caps);
   DeviceGaussians dev = uploadGaussians(*ctx, set);
   GaussianProxies proxies = buildGaussianProxies(*ctx, tracer, dev, set, kind, false);
@@ -82,7 +82,7 @@ std::vector<cli::Option> renderOptions() {
                                 {"height", "PIXELS", "image height", "392"},
                                 {"background", "R,G,B", "background colour", "0,0,0"},
                                 {"sh-degree", "D", "SH degree used (0..3)", "3"},
-                                {"k", "K", "k-buffer size", "16"},
+                                {"k", "K", "k-buffer size", std::to_string(kDefaultKBuffer)},
                                 {"proxy", "KIND", "Gaussian proxies: aabb, instanced or auto", "auto"}};
   for (auto& d : cli::deviceOptions()) o.push_back(d);
   return o;

@@ -7,6 +7,7 @@
 
 #include "engine/dataset/dataset.h"
 #include "engine/error.h"
+#include "engine/gaussian_trace.h"
 #include "engine/io/json_io.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/train_run.h"
@@ -45,7 +46,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.maxGaussians = positiveCount(a, "max-gaussians", std::max<long>(1000000, c.initialGaussians), 1, 100000000);
   c.initialDensity = a.getDouble("initial-density", 0.1);
   c.maxShDegree = positiveCount(a, "sh-degree", 3, 0, 3);
-  c.kBuffer = positiveCount(a, "k-buffer", 16, 1, 64);
+  c.kBuffer = positiveCount(a, "k-buffer", kDefaultKBuffer, 1, 64);
   c.proxy = a.get("proxy", "auto");
   c.mlpWidth = positiveCount(a, "mlp-width", 64, 1, 256);
   c.mlpHiddenLayers = positiveCount(a, "mlp-layers", 3, 1, 8);
@@ -135,7 +136,7 @@ std::vector<cli::Option> trainOptions() {
       {"max-gaussians", "N", "cap on the Gaussian count (enforced by densification)", "1000000"},
       {"initial-density", "X", "initial Gaussian density", "0.1"},
       {"sh-degree", "D", "highest SH degree (reached one degree per --sh-interval steps)", "3"},
-      {"k-buffer", "K", "tracer k-buffer size", "16"},
+      {"k-buffer", "K", "tracer k-buffer size", std::to_string(kDefaultKBuffer)},
       {"proxy", "KIND", "Gaussian proxies: aabb, instanced or auto", "auto"},
       {"mlp-width", "W", "height-field MLP width", "64"},
       {"mlp-layers", "L", "height-field MLP hidden layers", "3"},

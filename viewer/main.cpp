@@ -115,7 +115,7 @@ int runViewer(const cli::Args& args) {
   std::string runDir = args.positional.empty() ? "" : args.positional[0], ply = args.get("ply");
   if (args.positional.size() > 1) fail("refrax-view takes one run folder");
   if (!runDir.empty() && !ply.empty()) fail("give a run folder or --ply FILE, not both");
-  long defaultK = 16;
+  long defaultK = long(kDefaultKBuffer);
   if (!runDir.empty()) defaultK = long(readRunConfig(runDir).kBuffer);  // also one clear error for a folder that is not a run
   std::optional<GaussianSet> plyGaussians;
   if (!ply.empty()) plyGaussians = readGaussiansPly(ply);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/dataset/dataset.h"
+#include "engine/gaussian_trace.h"  // kDefaultKBuffer
 
 namespace refrax {
 
@@ -53,7 +54,7 @@ struct TrainConfig {
   uint32_t maxGaussians = 1000000;
   double initialDensity = 0.1;
   uint32_t maxShDegree = 3;
-  uint32_t kBuffer = 16;
+  uint32_t kBuffer = kDefaultKBuffer;
   std::string proxy = "auto";
 
   // Height field and surface.

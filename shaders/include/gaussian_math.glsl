@@ -79,14 +79,18 @@ SHARED_FN real gaussianPeakPrecision(real3 p, real3 w, real invLen2, real3 mu, r
   return max(dot(x0, A * x0) + tl * xAw, real(0));
 }
 
-// Radius (in sigmas) of the proxy box: where density * kernel falls to the cut-off
-// (adaptive, DESIGN 1.4), capped for very faint Gaussians.
+// Radius (in sigmas) of the proxy box: where density * kernel falls to the smallest value
+// acceptedAlpha keeps, max(min(0.0113, 0.97 density), 1/255) (the adaptive cut-off of
+// DESIGN 1.4, capped for faint Gaussians, and no further than alpha 1/255 reaches). Zero
+// for a Gaussian fainter than 1/255, which no ray can hit (trained scenes hold many: the
+// density decay and resets leave them behind; a point box keeps them out of every ray).
 SHARED_FN real proxyRadiusOf(real density) {
-  return sqrt(real(-2) * log(min(kMinKernelResponse / density, real(0.97))));
+  real threshold = max(min(kMinKernelResponse, real(0.97) * density), kMinAlpha);
+  return sqrt(max(real(-2) * log(threshold / density), real(0)));
 }
 
 // Hit acceptance: the peak must lie inside the proxy's ellipsoid (density * kernel above
-// min(0.0113, 0.97 density), equivalently m < proxyRadius^2, so the box always contains
+// min(0.0113, 0.97 density), i.e. m < proxyRadius^2, so the box always contains
 // every accepted peak) and alpha >= 1/255. Returns the unclamped alpha (density * kernel),
 // or 0 when rejected.
 SHARED_FN real acceptedAlpha(real m, real density) {
