@@ -116,7 +116,8 @@ int runViewer(const cli::Args& args) {
   if (args.positional.size() > 1) fail("refrax-view takes one run folder");
   if (!runDir.empty() && !ply.empty()) fail("give a run folder or --ply FILE, not both");
   long defaultK = long(kDefaultKBuffer);
-  if (!runDir.empty()) defaultK = long(readRunConfig(runDir).kBuffer);  // also one clear error for a folder that is not a run
+  // K changes only the speed, not the image: a run trained with a smaller K opens at the default.
+  if (!runDir.empty()) defaultK = std::max(defaultK, long(readRunConfig(runDir).kBuffer));  // also one clear error for a folder that is not a run
   std::optional<GaussianSet> plyGaussians;
   if (!ply.empty()) plyGaussians = readGaussiansPly(ply);
   if (isMeshFile(args.get("water"))) readSurfaceGltf(args.get("water"));  // one clear error before the window
