@@ -168,9 +168,10 @@ int runBenchRays(const cli::Args& args) {
     });
   };
 
-  // Alternate engine and probe twice and keep each side's best median, so a burst of load
-  // from elsewhere on a shared machine does not land on one side only.
-  const int rounds = probe.empty() ? 1 : 2;
+  // Alternate engine and probe (--rounds times) and keep each side's best median, so a burst
+  // of load from elsewhere on a shared machine does not land on one side only.
+  const int rounds = probe.empty() ? 1 : int(args.getInt("rounds", 4));
+  if (rounds < 1) fail("--rounds must be at least 1");
   double surfaceMs = 1e30, boxMs[2] = {1e30, 1e30};
   std::map<std::string, double> probeBest;
   for (int r = 0; r < rounds; r++) {
@@ -218,6 +219,7 @@ REFRAX_BENCH_SUITE({"rays",
                     "ray-query throughput: 80k-triangle surface and 10k/100k Gaussian boxes, beside the rqprobe floor",
                     {{"probe", "PATH", "rqprobe binary to run on the same scenes in the same run (bench/rays.sh builds it)", ""},
                      {"runs", "N", "timed runs per measurement (median)", "5"},
+                     {"rounds", "N", "with --probe: alternations of refrax and the probe (best median of each side)", "4"},
                      {"size", "PIXELS", "image side in rays", "400"},
                      {"out", "FILE", "write the figures as JSON", ""},
                      {"trace-updatable", "", "trace the surface BVH built with ALLOW_UPDATE (as training refits it)", ""}},
