@@ -19,6 +19,7 @@
 #include "engine/synth/synth_dataset.h"
 #include "engine/synth/synth_presets.h"
 #include "tests/gpu_test.h"
+#include "tests/water_json_height.h"
 
 using namespace refrax;
 using namespace refrax::synth;
@@ -332,17 +333,6 @@ TEST_CASE("synth: bad arguments give one clear error and a non-zero exit and lea
   CHECK(!fs::exists(dir.path / "x"));
 }
 
-// H from water.json's parameters alone, as a user of the dataset would evaluate it.
-static double heightFromJson(const nlohmann::json& surface, double x, double y) {
-  double h = surface["mean_height"].get<double>();
-  for (const auto& w : surface["directional_waves"])
-    h += w["amplitude"].get<double>() * std::sin(w["kx"].get<double>() * x + w["ky"].get<double>() * y + w["phase"].get<double>());
-  for (const auto& r : surface["radial_ripples"]) {
-    double dx = x - r["cx"].get<double>(), dy = y - r["cy"].get<double>(), sigma = r["sigma"].get<double>();
-    h += r["amplitude"].get<double>() * std::cos(r["k"].get<double>() * std::hypot(dx, dy)) * std::exp(-(dx * dx + dy * dy) / (2 * sigma * sigma));
-  }
-  return h;
-}
 
 TEST_CASE("synth: water.json and the height map and the glTF mesh describe the same surface") {
   TempDir dir;
@@ -365,7 +355,7 @@ TEST_CASE("synth: water.json and the height map and the glTF mesh describe the s
   for (size_t j = 0; j < ny; j++)
     for (size_t i = 0; i < nx; i++) {
       double x = domain[0] + (domain[2] - domain[0]) * double(i) / double(nx - 1), y = domain[1] + (domain[3] - domain[1]) * double(j) / double(ny - 1);
-      double h = heightFromJson(surface, x, y);
+      double h = test::heightFromJson(surface, x, y);
       CHECK(hm.data[j * nx + i] == doctest::Approx(h).epsilon(1e-6));
       range = std::max(range, std::abs(h));
     }
@@ -385,7 +375,7 @@ TEST_CASE("synth: water.json and the height map and the glTF mesh describe the s
     const float* p = pos + 3 * v;
     CHECK(p[0] >= domain[0] - 1e-6);
     CHECK(p[0] <= domain[2] + 1e-6);
-    CHECK(p[2] == doctest::Approx(heightFromJson(surface, p[0], p[1])).epsilon(1e-6));
+    CHECK(p[2] == doctest::Approx(test::heightFromJson(surface, p[0], p[1])).epsilon(1e-6));
   }
   const auto& idx = model.accessors[prim.indices];
   CHECK(idx.count == 6 * (size_t(std::sqrt(double(acc.count))) - 1) * (size_t(std::sqrt(double(acc.count))) - 1));

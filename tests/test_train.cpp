@@ -19,6 +19,7 @@
 #include "engine/train/train_run.h"
 #include "tests/gpu_test.h"
 #include "tests/train_test_util.h"
+#include "tests/water_json_height.h"
 
 namespace fs = std::filesystem;
 
@@ -131,6 +132,17 @@ GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterr
   CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
 }
 
+// Runs `refrax train` on a broken copy of the tiny dataset: one clear error naming `expect`,
+// a non-zero exit and no run folder (extra `options` appended).
+void expectCleanFailure(const std::string& dataset, const std::string& run, const std::string& expect, const std::string& options = "") {
+  test::CliResult r = test::runCli("train " + dataset + " -o " + run + " --steps 2 --gaussians 100" + options);
+  INFO(r.output);
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find(expect) != std::string::npos);
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+  CHECK(!fs::exists(run));
+}
+
 TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refuses a surface it cannot hold") {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
@@ -138,8 +150,7 @@ TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refus
   // Measured 0.00023 against the flat plane's 0.0173: only the proxy mesh's facets and the
   // ground-truth height map's bilinear sampling differ from the true sine.
   CHECK(m["surface_rmse"].get<double>() * 20 <= m["initial_flat_surface_rmse"].get<double>());
-  nlohmann::json water = readJson(data + "/water.json");
-  const auto& wave = water["surface"]["directional_waves"][0];
+  nlohmann::json surface = readJson(data + "/water.json")["surface"];
   NpyArray h = readNpy(dir / "known/water_height.npy");
   REQUIRE(h.shape.size() == 2);
   auto domain = readJson(dir / "known/metrics.json")["water_height_domain"];
@@ -149,21 +160,14 @@ TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refus
     for (size_t i = 0; i < nx; i++) {
       double x = domain[0].get<double>() + (domain[2].get<double>() - domain[0].get<double>()) * double(i) / double(nx - 1);
       double y = domain[1].get<double>() + (domain[3].get<double>() - domain[1].get<double>()) * double(j) / double(ny - 1);
-      double want = water["surface"]["mean_height"].get<double>() +
-                    wave["amplitude"].get<double>() * std::sin(wave["kx"].get<double>() * x + wave["ky"].get<double>() * y + wave["phase"].get<double>());
-      double diff = std::abs(h.data[j * nx + i] - want);
+      double diff = std::abs(h.data[j * nx + i] - test::heightFromJson(surface, x, y));
       if (diff > worstDiff) worstDiff = diff, worst = j * nx + i;
     }
   INFO("worst height difference " << worstDiff << " at " << worst);
   CHECK(worstDiff <= 1e-5);  // float32 positions (x, y up to ~1) through sin
 
   // A surface with a radial ripple is not a sum of directional sines.
-  test::CliResult r = test::runCli("train " + test::tinyDataset("nerfrac-hybrid") + " -o " + (dir / "hybrid") + " --known-water --steps 2");
-  INFO(r.output);
-  CHECK(r.exitCode != 0);
-  CHECK(r.output.find("radial ripples") != std::string::npos);
-  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
-  CHECK(!fs::exists(dir / "hybrid"));
+  expectCleanFailure(test::tinyDataset("nerfrac-hybrid"), dir / "hybrid", "radial ripples", " --known-water");
 }
 
 TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives config.json, and is validated") {
@@ -183,16 +187,6 @@ TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives conf
   }
 }
 
-// Runs `refrax train` on a broken copy of the tiny dataset: one clear error naming `expect`,
-// a non-zero exit and no run folder.
-void expectCleanFailure(const std::string& dataset, const std::string& run, const std::string& expect) {
-  test::CliResult r = test::runCli("train " + dataset + " -o " + run + " --steps 2 --gaussians 100");
-  INFO(r.output);
-  CHECK(r.exitCode != 0);
-  CHECK(r.output.find(expect) != std::string::npos);
-  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
-  CHECK(!fs::exists(run));
-}
 
 TEST_CASE("train: bad datasets give one clear error and leave no run folder") {
   TrainTempDir dir;
