@@ -38,6 +38,7 @@ HeightPush basePush(const HeightField& hf) {
     p.domainMax[a] = hf.config.domainMax[a];
   }
   p.initialHeight = hf.config.initialHeight;
+  p.octaveWindow = heightOctaveWindow(hf.config);
   p.chunk = hf.backwardChunk;
   p.slice = kGradientSlice;
   return p;

@@ -36,7 +36,13 @@ struct HeightFieldConfig {
   uint32_t octaves = 6, width = 256, hiddenLayers = 6;
   float leakySlope = 0.01f, lastLayerInitRange = 0.1f, initialHeight = 0.0f;
   float domainMin[2] = {-1, -1}, domainMax[2] = {1, 1};  // world xy mapped to [-1,1]^2 before encoding
+  // Coarse-to-fine encoding window as a fraction of the octaves, in [0, 1]: the window
+  // a = encodingWindow * octaves of height_encoding.glsl; 1 opens every octave (the plain
+  // NeRF encoding). Training opens it gradually; it is saved with the weights.
+  float encodingWindow = 1.0f;
 };
+// The window a of height_encoding.glsl for this configuration.
+inline float heightOctaveWindow(const HeightFieldConfig& c) { return c.encodingWindow * float(c.octaves); }
 
 uint32_t heightInputCount(const HeightFieldConfig& config);
 uint64_t heightParameterCount(const HeightFieldConfig& config);

@@ -13,8 +13,10 @@ namespace refrax {
 namespace {
 
 constexpr char kMagic[8] = {'R', 'F', 'X', 'H', 'G', 'T', 'F', '\0'};
-constexpr uint32_t kVersion = 1;
-constexpr size_t kHeaderBytes = 8 + 4 * 4 + 7 * 4 + 8;  // magic, 4 u32, 7 f32, u64
+// Version 2 added the coarse-to-fine encoding window (f32 after the domain); version 1
+// files (written before it) load with every octave open.
+constexpr uint32_t kVersion = 2;
+constexpr size_t headerBytes(uint32_t version) { return 8 + 4 * 4 + (version >= 2 ? 8 : 7) * 4 + 8; }  // magic, 4 u32, 7-8 f32, u64
 
 uint32_t fnv1a(const std::vector<uint8_t>& bytes, size_t n) {
   uint32_t h = 2166136261u;
@@ -69,7 +71,8 @@ void saveHeightField(const std::string& path, Context& ctx, const HeightField& h
   out.u32(c.octaves);
   out.u32(c.width);
   out.u32(c.hiddenLayers);
-  for (float v : {c.leakySlope, c.lastLayerInitRange, c.initialHeight, c.domainMin[0], c.domainMin[1], c.domainMax[0], c.domainMax[1]})
+  for (float v : {c.leakySlope, c.lastLayerInitRange, c.initialHeight, c.domainMin[0], c.domainMin[1], c.domainMax[0], c.domainMax[1],
+                  c.encodingWindow})
     out.f32(v);
   out.u64(w.size());
   for (float v : w) out.f32(v);
@@ -99,10 +102,13 @@ HeightField loadHeightField(Context& ctx, const std::string& path) {
   const std::string what = "height field file '" + path + "'";
   if (bytes.size() < 8) fail(what + " is truncated (" + std::to_string(bytes.size()) + " bytes)");
   if (std::memcmp(bytes.data(), kMagic, 8) != 0) fail(what + " is not a Refrax height field (bad magic)");
-  if (bytes.size() < kHeaderBytes + 4) fail(what + " is truncated (" + std::to_string(bytes.size()) + " bytes)");
+  if (bytes.size() < headerBytes(1) + 4) fail(what + " is truncated (" + std::to_string(bytes.size()) + " bytes)");
   Reader in{bytes, 8};
   uint32_t version = in.u32();
-  if (version != kVersion) fail(what + " has version " + std::to_string(version) + ", this build reads version 1");
+  if (version != 1 && version != kVersion)
+    fail(what + " has version " + std::to_string(version) + ", this build reads versions 1 and " + std::to_string(kVersion));
+  const size_t header = headerBytes(version);
+  if (bytes.size() < header + 4) fail(what + " is truncated (" + std::to_string(bytes.size()) + " bytes)");
   HeightFieldConfig c;
   c.octaves = in.u32();
   c.width = in.u32();
@@ -114,6 +120,7 @@ HeightField loadHeightField(Context& ctx, const std::string& path) {
   c.domainMin[1] = in.f32();
   c.domainMax[0] = in.f32();
   c.domainMax[1] = in.f32();
+  if (version >= 2) c.encodingWindow = in.f32();
   uint64_t count = in.u64();
   try {
     validateHeightFieldConfig(c);
@@ -123,7 +130,7 @@ HeightField loadHeightField(Context& ctx, const std::string& path) {
   if (count != heightParameterCount(c))
     fail(what + " is corrupt: it declares " + std::to_string(count) + " weights, its configuration needs " +
          std::to_string(heightParameterCount(c)));
-  uint64_t expected = kHeaderBytes + count * 4 + 4;
+  uint64_t expected = header + count * 4 + 4;
   if (bytes.size() < expected) fail(what + " is truncated (" + std::to_string(bytes.size()) + " of " + std::to_string(expected) + " bytes)");
   if (bytes.size() > expected) fail(what + " is corrupt: " + std::to_string(bytes.size() - expected) + " bytes after the end");
   std::vector<float> w(count);

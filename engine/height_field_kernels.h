@@ -23,8 +23,9 @@ struct HeightPush {
   uint32_t weightBase;
   uint32_t inOffset;
   uint32_t outOffset;
+  float octaveWindow;
 };
-static_assert(sizeof(HeightPush) == 48, "HeightPush must match height_push.glsl");
+static_assert(sizeof(HeightPush) == 52, "HeightPush must match height_push.glsl");
 
 struct HeightFieldPipelines {
   std::map<std::string, ComputePipeline> byName;  // created on first use, kept for the field's life

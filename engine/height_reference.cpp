@@ -31,6 +31,8 @@ void validateHeightFieldConfig(const HeightFieldConfig& c) {
   for (int a = 0; a < 2; a++)
     if (!finite(c.domainMin[a]) || !finite(c.domainMax[a]) || !(c.domainMax[a] > c.domainMin[a]))
       fail("height field domain must be finite with domainMax > domainMin on both axes");
+  if (!(c.encodingWindow >= 0.0f && c.encodingWindow <= 1.0f))
+    fail("height field encodingWindow must be in [0, 1], got " + std::to_string(c.encodingWindow));
 }
 
 namespace {
@@ -60,7 +62,7 @@ double forwardAll(const HeightFieldConfig& c, const std::vector<double>& w, doub
                                          f64::real2(c.domainMax[0], c.domainMax[1]));
   acts.assign(L.hidden + 1, {});
   acts[0].resize(L.inputs);
-  for (uint32_t i = 0; i < L.inputs; i++) acts[0][i] = f64::heightEncodingFeature(u, i);
+  for (uint32_t i = 0; i < L.inputs; i++) acts[0][i] = f64::heightEncodingFeature(u, i, double(c.encodingWindow) * double(c.octaves));
   for (uint32_t l = 0; l < L.hidden; l++) {
     acts[l + 1].assign(L.width, 0.0);
     const double* W = w.data() + L.offset(l);

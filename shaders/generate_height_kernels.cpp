@@ -144,7 +144,7 @@ void emitEncoding(Emitter& e, uint32_t inputs) {
   e.line("vec2 p = points[i];");
   e.line("bool finitePoint = heightPointFinite(p);");
   e.line("vec2 u = heightDomainToUnit(finitePoint ? p : pc.domainMin, pc.domainMin, pc.domainMax);");
-  for (uint32_t k = 0; k < inputs; k++) e.line("float e" + std::to_string(k) + " = heightEncodingFeature(u, " + std::to_string(k) + "u);");
+  for (uint32_t k = 0; k < inputs; k++) e.line("float e" + std::to_string(k) + " = heightEncodingFeature(u, " + std::to_string(k) + "u, pc.octaveWindow);");
 }
 
 void emitOutput(Emitter& e, uint32_t width, const std::string& in, const std::string& base, const std::string& lastVec4,
@@ -208,7 +208,7 @@ std::string fusedBackprop(uint32_t width, uint32_t hidden, uint32_t octaves) {
   e.line("bool usable = heightPointFinite(p) && !isnan(g) && !isinf(g);");
   e.line("g = usable ? g : 0.0;");
   e.line("vec2 u = heightDomainToUnit(usable ? p : pc.domainMin, pc.domainMin, pc.domainMax);");
-  for (uint32_t k = 0; k < inputs; k++) e.line("float e" + std::to_string(k) + " = heightEncodingFeature(u, " + std::to_string(k) + "u);");
+  for (uint32_t k = 0; k < inputs; k++) e.line("float e" + std::to_string(k) + " = heightEncodingFeature(u, " + std::to_string(k) + "u, pc.octaveWindow);");
   // Scratch offsets: X_l at chunk * xOff(l) + tc * n_l, D_l at chunk * dOff(l) + tc * m_l.
   auto xOff = [&](uint32_t l) { return l == 0 ? 0u : inputs + (l - 1) * width; };
   auto dOff = [&](uint32_t l) { return inputs + hidden * width + l * width; };

@@ -24,7 +24,7 @@ void main() {
   }
   vec2 u = heightDomainToUnit(p, pc.domainMin, pc.domainMax);
   uint x0 = scratchX(0u, pc.chunk) + t * INPUTS;
-  for (uint k = 0u; k < INPUTS; k++) scratch[x0 + k] = heightEncodingFeature(u, k);
+  for (uint k = 0u; k < INPUTS; k++) scratch[x0 + k] = heightEncodingFeature(u, k, pc.octaveWindow);
   for (uint l = 0u; l < HIDDEN; l++) {
     uint n = layerFanIn(l);
     uint xin = scratchX(l, pc.chunk) + t * n;

@@ -21,7 +21,7 @@ void main() {
   }
   vec2 u = heightDomainToUnit(p, pc.domainMin, pc.domainMax);
   float enc[INPUTS];
-  for (uint k = 0u; k < INPUTS; k++) enc[k] = heightEncodingFeature(u, k);
+  for (uint k = 0u; k < INPUTS; k++) enc[k] = heightEncodingFeature(u, k, pc.octaveWindow);
   float a[WIDTH];
   float b[WIDTH];
   for (uint j = 0u; j < WIDTH; j++) {

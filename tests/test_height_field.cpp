@@ -1,11 +1,13 @@
 // Height field: forward against the CPU double reference, backward against the reference's
 // analytic gradient and central finite differences, files, and bad input.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <vector>
 
+#include "engine/height_encoding.h"
 #include "engine/height_field.h"
 #include "engine/vk_buffer.h"
 #include "engine/vk_commands.h"
@@ -31,6 +33,7 @@ HeightFieldConfig randomConfig(std::mt19937& rng, uint32_t width, uint32_t hidde
   c.domainMin[1] = U(rng);
   c.domainMax[0] = c.domainMin[0] + 0.5f + std::abs(U(rng));
   c.domainMax[1] = c.domainMin[1] + 0.5f + std::abs(U(rng));
+  c.encodingWindow = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);  // coarse-to-fine, usually partly open
   return c;
 }
 
@@ -146,8 +149,29 @@ TEST_CASE("height field reference: encoding and parameter layout") {
   CHECK(heightReferenceKinkDistance(c, w, x, 0.3) == 0.0);
   w[1 * 6 + 2] = -2.0;
   CHECK(heightReferenceKinkDistance(c, w, x, 0.3) == doctest::Approx(std::fabs(std::sin(M_PI * u))).epsilon(1e-12));
+  // The coarse-to-fine window: octave k is scaled by (1 - cos(pi clamp(a - k, 0, 1))) / 2.
+  c.encodingWindow = 0.0f;  // a = 0: octave 0 closed, only the raw coordinates pass
+  CHECK(heightReference(c, w, x, 0.3) == doctest::Approx(0.25).epsilon(1e-12));
+  c.encodingWindow = 0.5f;  // a = 0.5 of one octave: half weight
+  CHECK(heightReference(c, w, x, 0.3) == doctest::Approx(0.25 + 3 * 0.5 * std::max(std::sin(M_PI * u), 0.01 * std::sin(M_PI * u))).epsilon(1e-12));
+  f64::real2 uv(0.3, -0.7);
+  for (double a : {0.0, 0.8, 1.0, 1.5, 2.25, 3.0})
+    for (uint32_t k = 0; k < 3; k++) {
+      double weight = (1 - std::cos(M_PI * std::clamp(a - k, 0.0, 1.0))) / 2;
+      for (uint32_t kind = 0; kind < 4; kind++) {
+        uint32_t i = 2 + 4 * k + kind;
+        CHECK(f64::heightEncodingFeature(uv, i, a) == doctest::Approx(weight * f64::heightEncodingFeature(uv, i, 3.0)).epsilon(1e-14));
+      }
+      CHECK(f64::heightEncodingFeature(uv, 0, a) == uv.x);
+    }
+  c.encodingWindow = 1.0f;
   HeightFieldConfig bad;
   bad.width = 0;
+  CHECK_THROWS_AS(validateHeightFieldConfig(bad), Error);
+  bad = HeightFieldConfig();
+  bad.encodingWindow = 1.5f;
+  CHECK_THROWS_AS(validateHeightFieldConfig(bad), Error);
+  bad.encodingWindow = std::nanf("");
   CHECK_THROWS_AS(validateHeightFieldConfig(bad), Error);
   bad = HeightFieldConfig();
   bad.domainMax[1] = bad.domainMin[1];
@@ -249,6 +273,7 @@ GPU_TEST_CASE("height field save/load round-trips bitwise, bad files are refused
   CHECK(back.config.octaves == 3);
   CHECK(back.config.initialHeight == hf.config.initialHeight);
   CHECK(back.config.domainMax[1] == hf.config.domainMax[1]);
+  CHECK(back.config.encodingWindow == hf.config.encodingWindow);
 
   std::ifstream in(path, std::ios::binary);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -269,6 +294,20 @@ GPU_TEST_CASE("height field save/load round-trips bitwise, bad files are refused
   auto wrongCount = bytes;
   wrongCount[8 + 4 + 4] = 9;  // width 9: the weight count no longer matches
   CHECK_THROWS_AS(writeAndLoad(wrongCount), Error);
+  // A version-1 file (before the encoding window: one f32 fewer) loads with every octave open.
+  auto v1 = bytes;
+  v1[8] = 1;
+  size_t windowAt = 8 + 4 * 4 + 7 * 4;
+  v1.erase(v1.begin() + long(windowAt), v1.begin() + long(windowAt) + 4);
+  uint32_t h = 2166136261u;
+  for (size_t i = 0; i + 4 < v1.size(); i++) h = (h ^ uint8_t(v1[i])) * 16777619u;
+  std::memcpy(v1.data() + v1.size() - 4, &h, 4);
+  HeightField old = writeAndLoad(v1);
+  CHECK(old.config.encodingWindow == 1.0f);
+  CHECK(old.config.width == 8);
+  auto v3 = bytes;
+  v3[8] = 3;
+  CHECK_THROWS_WITH_AS(writeAndLoad(v3), doctest::Contains("version 3"), Error);
   std::remove(path.c_str());
   CHECK_THROWS_AS(loadHeightField(ctx, path), Error);  // missing
   CHECK_THROWS_AS(uploadWeights(ctx, hf, std::vector<float>(3)), Error);

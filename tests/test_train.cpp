@@ -10,6 +10,7 @@
 
 #include "engine/dataset/dataset.h"
 #include "engine/error.h"
+#include "engine/height_field.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
 #include "engine/io/npy.h"
@@ -187,6 +188,46 @@ TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives conf
   }
 }
 
+
+TEST_CASE("train: the height encoding opens coarse to fine between the surface freeze and --octaves-open-until") {
+  TrainConfig c;
+  c.steps = 15000;
+  resolveSchedule(c);
+  REQUIRE(c.schedule.surfaceFreeze == 1000);
+  REQUIRE(c.schedule.octavesOpenUntil == 7500);
+  REQUIRE(c.mlpOctaves == 6);
+  CHECK(encodingWindowAt(c, 0) == 1.0f);  // off by default: every octave open
+  c.mlpCoarseOctaves = 3;
+  CHECK(encodingWindowAt(c, 0) == doctest::Approx(0.5));
+  CHECK(encodingWindowAt(c, 1000) == doctest::Approx(0.5));
+  CHECK(encodingWindowAt(c, 4250) == doctest::Approx(0.75));  // half way: 4.5 of 6 octaves
+  CHECK(encodingWindowAt(c, 7500) == doctest::Approx(1.0));
+  CHECK(encodingWindowAt(c, 14000) == doctest::Approx(1.0));
+  // What the field holds after a step: frozen steps keep step 0's window, learning steps lift
+  // the surface for the next one.
+  CHECK(encodingWindowAfterStep(c, 1000) == doctest::Approx(0.5));
+  CHECK(encodingWindowAfterStep(c, 4249) == doctest::Approx(0.75));
+  c.domain = Rect{-1, -1, 1, 1};
+  for (int a = 0; a < 3; a++) c.boxMax[a] = 1;
+  TrainConfig back = trainConfigFromJson(trainConfigToJson(c), "test");
+  CHECK(back.mlpCoarseOctaves == 3);
+  CHECK(back.schedule.octavesOpenUntil == 7500);
+  c.mlpCoarseOctaves = 6;  // >= octaves: the plain encoding throughout
+  CHECK(encodingWindowAt(c, 0) == 1.0f);
+  c.mlpCoarseOctaves = 2;
+  c.mlpOctaves = 0;
+  CHECK(encodingWindowAt(c, 0) == 1.0f);
+
+  // End to end: the saved height field carries the window of its last step.
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  test::trainAndReadMetrics(data, dir / "run",
+                            " --steps 4 --mlp-coarse-octaves 3 --surface-freeze 0 --octaves-open-until 100 --gaussians 200 --patch 16 --checkpoint-every 0 "
+                            "--mlp-width 16 --mlp-layers 2");
+  Context& ctx = test::context();
+  HeightField hf = loadHeightField(ctx, dir / "run/height_field.bin");
+  CHECK(hf.config.encodingWindow == doctest::Approx((3.0 + 3.0 * 5.0 / 100.0) / 6.0).epsilon(1e-6));
+}
 
 TEST_CASE("train: bad datasets give one clear error and leave no run folder") {
   TrainTempDir dir;

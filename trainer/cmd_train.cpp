@@ -51,6 +51,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.mlpWidth = positiveCount(a, "mlp-width", 64, 1, 256);
   c.mlpHiddenLayers = positiveCount(a, "mlp-layers", 3, 1, 8);
   c.mlpOctaves = positiveCount(a, "mlp-octaves", 6, 0, 16);
+  c.mlpCoarseOctaves = positiveCount(a, "mlp-coarse-octaves", c.mlpOctaves, 0, 16);
   c.mlpInitRange = a.getDouble("mlp-init-range", 1e-3);
   c.surfaceLearningRate = a.getDouble("surface-lr", 5e-4);
   c.gridCells = positiveCount(a, "grid-cells", 64, 1, 4096);
@@ -59,6 +60,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.densityDecay = a.getDouble("density-decay", 0.99);
   scheduleOption(a, "surface-freeze", c.schedule.surfaceFreeze);
   scheduleOption(a, "face-normals-until", c.schedule.faceNormalsUntil);
+  scheduleOption(a, "octaves-open-until", c.schedule.octavesOpenUntil);
   scheduleOption(a, "sh-interval", c.schedule.shDegreeInterval);
   scheduleOption(a, "density-reset-every", c.schedule.densityResetInterval);
   scheduleOption(a, "density-reset-until", c.schedule.densityResetUntil);
@@ -141,6 +143,7 @@ std::vector<cli::Option> trainOptions() {
       {"mlp-width", "W", "height-field MLP width", "64"},
       {"mlp-layers", "L", "height-field MLP hidden layers", "3"},
       {"mlp-octaves", "O", "height-field frequency-encoding octaves", "6"},
+      {"mlp-coarse-octaves", "C", "coarse-to-fine: octaves open while the surface is frozen, the rest open gradually until --octaves-open-until (>= O: all from the start)", "O"},
       {"mlp-init-range", "X", "height-field last layer initialised in +-X (reference 0.1)", "0.001"},
       {"surface-lr", "X", "surface learning rate at step 0 (MLP weights, or the flat height), decaying to X/100 (reference 5e-4)", "5e-4"},
       {"grid-cells", "N", "water-surface proxy mesh cells per side", "64"},
@@ -149,6 +152,7 @@ std::vector<cli::Option> trainOptions() {
       {"density-decay", "X", "density multiplier every --density-decay-every steps", "0.99"},
       {"surface-freeze", "N", "surface frozen for the first N steps", "1000 x steps/15000"},
       {"face-normals-until", "N", "flat face normals until step N, then interpolated", "7500 x steps/15000"},
+      {"octaves-open-until", "N", "every encoding octave open from step N (the window opens linearly from --surface-freeze)", "7500 x steps/15000"},
       {"sh-interval", "N", "SH degree +1 every N steps", "1000 x steps/15000"},
       {"density-reset-every", "N", "density reset to <= 0.01 every N steps (part of densification: only when it runs)", "max(1000, 3000 x steps/15000)"},
       {"density-reset-until", "N", "no density reset from step N", "12000 x steps/15000"},

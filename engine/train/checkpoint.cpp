@@ -211,6 +211,7 @@ void loadCheckpoint(TrainSession& s, const std::string& path) {
   s.densifyStats = std::move(densifyStats);
   if (s.height) {
     uploadWeights(ctx, *s.height, weights);
+    s.height->config.encodingWindow = encodingWindowAfterStep(s.config, s.step);
     upload(ctx, s.heightAdam.m, hm.data(), hm.size() * 4);
     upload(ctx, s.heightAdam.v, hv.data(), hv.size() * 4);
     s.heightAdam.step = heightStep;

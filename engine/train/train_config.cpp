@@ -38,6 +38,7 @@ void resolveSchedule(TrainConfig& c) {
   ScheduleSteps& k = c.schedule;
   scaled(k.surfaceFreeze, 1000, s, 0);
   scaled(k.faceNormalsUntil, 7500, s, 0);
+  scaled(k.octavesOpenUntil, 7500, s, 0);
   scaled(k.shDegreeInterval, 1000, s, 1);
   // Density events act through per-step learning rates (a Gaussian needs on the order of a
   // thousand steps to regain density after a reset at lr 0.05), so their intervals do not
@@ -53,6 +54,16 @@ void resolveSchedule(TrainConfig& c) {
   scaled(k.pruneInterval, 100, 1.0, 1);
   scaled(k.pruneLargeFrom, 3000, s, 0);
 }
+
+float encodingWindowAt(const TrainConfig& c, int t) {
+  if (c.mlpOctaves == 0 || c.mlpCoarseOctaves >= c.mlpOctaves) return 1.0f;
+  int from = c.schedule.surfaceFreeze, until = c.schedule.octavesOpenUntil;
+  double ramp = until > from ? std::clamp(double(t - from) / double(until - from), 0.0, 1.0) : (t >= until ? 1.0 : 0.0);
+  double open = double(c.mlpCoarseOctaves) + ramp * double(c.mlpOctaves - c.mlpCoarseOctaves);
+  return float(std::min(1.0, open / double(c.mlpOctaves)));
+}
+
+float encodingWindowAfterStep(const TrainConfig& c, int t) { return encodingWindowAt(c, t > c.schedule.surfaceFreeze ? t + 1 : 0); }
 
 void validateTrainConfig(const TrainConfig& c) {
   auto need = [](bool ok, const std::string& what) {
@@ -114,12 +125,14 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["mlp_width"] = c.mlpWidth;
   j["mlp_hidden_layers"] = c.mlpHiddenLayers;
   j["mlp_octaves"] = c.mlpOctaves;
+  j["mlp_coarse_octaves"] = c.mlpCoarseOctaves;
   j["mlp_init_range"] = c.mlpInitRange;
   j["surface_lr"] = c.surfaceLearningRate;
   j["grid_cells"] = c.gridCells;
   j["subdivision_levels"] = c.subdivisionLevels;
   const ScheduleSteps& k = c.schedule;
   j["schedule"] = {{"surface_freeze", k.surfaceFreeze},         {"face_normals_until", k.faceNormalsUntil},
+                   {"octaves_open_until", k.octavesOpenUntil},
                    {"sh_degree_interval", k.shDegreeInterval},  {"density_reset_interval", k.densityResetInterval},
                    {"density_reset_until", k.densityResetUntil}, {"density_decay_interval", k.densityDecayInterval},
                    {"densify_from", k.densifyFrom},             {"densify_interval", k.densifyInterval},
@@ -174,6 +187,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.mlpWidth = j.at("mlp_width").get<uint32_t>();
     c.mlpHiddenLayers = j.at("mlp_hidden_layers").get<uint32_t>();
     c.mlpOctaves = j.at("mlp_octaves").get<uint32_t>();
+    c.mlpCoarseOctaves = j.value("mlp_coarse_octaves", c.mlpOctaves);  // runs written before the option: every octave open
     c.mlpInitRange = j.at("mlp_init_range").get<double>();
     c.surfaceLearningRate = j.value("surface_lr", 5e-4);  // runs written before the option: the reference
     c.gridCells = j.at("grid_cells").get<uint32_t>();
@@ -182,6 +196,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     ScheduleSteps& k = c.schedule;
     k.surfaceFreeze = s.at("surface_freeze").get<int>();
     k.faceNormalsUntil = s.at("face_normals_until").get<int>();
+    k.octavesOpenUntil = s.value("octaves_open_until", 0);
     k.shDegreeInterval = s.at("sh_degree_interval").get<int>();
     k.densityResetInterval = s.at("density_reset_interval").get<int>();
     k.densityResetUntil = s.at("density_reset_until").get<int>();

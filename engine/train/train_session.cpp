@@ -165,6 +165,7 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
     hc.domainMin[1] = float(config.domain.yMin);
     hc.domainMax[0] = float(config.domain.xMax);
     hc.domainMax[1] = float(config.domain.yMax);
+    hc.encodingWindow = encodingWindowAt(config, 0);
     s->height.emplace(createHeightField(ctx, hc, uint32_t(config.seed * 7919u + 3u)));
     LearningRateSchedule lr = surfaceLearningRate(config);
     s->heightAdam = createAdamGroup(ctx, "height_mlp", lr, 1, uint32_t(s->height->parameterCount));
@@ -323,6 +324,9 @@ StepResult trainStep(TrainSession& s) {
       cmdBackwardSurface(cb, *s.surface, *s.height, s.rays, s.records, s.rayGrads, n, s.heightGrad);
       cmdAdamStep(cb, s.adamPipelines, s.heightAdam, s.height->weights, s.heightGrad, 0, true);
       cmdBarrier(cb);
+      // The next step's encoding window (recorded after the backward, which used this step's):
+      // the proxy mesh the next step traces is lifted by the field it will differentiate.
+      s.height->config.encodingWindow = encodingWindowAfterStep(c, t);
       cmdUpdateSurface(cb, *s.surface, *s.height);
     } else if (surfaceLearns) {
       cmdBackwardSurface(cb, *s.surface, source, s.rays, s.records, s.rayGrads, n);

@@ -6,6 +6,12 @@
 //   e[0] = u.x, e[1] = u.y, and for octave k = 0..L-1:
 //   e[2+4k] = sin(2^k pi u.x), e[3+4k] = sin(2^k pi u.y),
 //   e[4+4k] = cos(2^k pi u.x), e[5+4k] = cos(2^k pi u.y).
+// Coarse-to-fine window (BARF, Lin et al. 2021): octave k's four features are scaled by
+// w_k(a) = (1 - cos(pi clamp(a - k, 0, 1))) / 2 for the window a in [0, L]; a = L keeps
+// every octave (w = 1), a = 2 keeps octaves 0 and 1 and silences the rest. Why: the surface
+// gradient reaches the heights through normals (slopes), which weight a height mode of
+// frequency f by f, so high octaves make the optimisation stiff; opening them late lets the
+// low frequencies settle first (measured: docs in README, training section).
 // The phase 2^k u is reduced to [-1, 1) exactly before multiplying by pi (a power-of-two
 // scale and the subtraction of an even integer are exact in float), so float shaders keep
 // ~1e-7 absolute accuracy even at the top octave instead of losing it to |2^k pi u| ~ 100.
@@ -32,8 +38,14 @@ SHARED_FN real2 heightDomainToUnit(real2 p, real2 domainMin, real2 domainMax) {
 // sin/cos(pi * t) after reducing t to [-1, 1) by an even integer (exact).
 SHARED_FN real heightReducedPhase(real t) { return t - real(2) * floor(t * real(0.5) + real(0.5)); }
 
-// Input i (0 <= i < 2 + 4L) of the encoding of u.
-SHARED_FN real heightEncodingFeature(real2 u, uint i) {
+// The coarse-to-fine weight of octave k under window a (see above).
+SHARED_FN real heightOctaveWeight(uint octave, real window) {
+  real r = clamp(window - real(octave), real(0), real(1));
+  return (real(1) - cos(real(3.14159265358979323846) * r)) * real(0.5);
+}
+
+// Input i (0 <= i < 2 + 4L) of the encoding of u under the coarse-to-fine window.
+SHARED_FN real heightEncodingFeature(real2 u, uint i, real window) {
   if (i == 0u) return u.x;
   if (i == 1u) return u.y;
   uint j = i - 2u;
@@ -41,7 +53,7 @@ SHARED_FN real heightEncodingFeature(real2 u, uint i) {
   uint kind = j % 4u;  // 0: sin x, 1: sin y, 2: cos x, 3: cos y
   real t = ((kind % 2u) == 0u ? u.x : u.y) * real(1u << octave);
   real phase = real(3.14159265358979323846) * heightReducedPhase(t);
-  return kind < 2u ? sin(phase) : cos(phase);
+  return heightOctaveWeight(octave, window) * (kind < 2u ? sin(phase) : cos(phase));
 }
 
 // Leaky ReLU and its derivative as a function of the activation's output (which has the

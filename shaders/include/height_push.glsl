@@ -13,6 +13,7 @@ layout(push_constant) uniform HeightPush {
   uint weightBase;     // first weight of this dispatch (weight-gradient pass) / weight offset (layered)
   uint inOffset;       // layered forward: scratch offsets of the layer's input and output
   uint outOffset;
+  float octaveWindow;  // coarse-to-fine encoding window (height_encoding.glsl), in [0, octaves]
 } pc;
 
 float heightNaN() { return uintBitsToFloat(0x7FC00000u); }
