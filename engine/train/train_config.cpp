@@ -130,6 +130,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["density_decay"] = c.densityDecay;
   j["density_reset_value"] = c.densityResetValue;
   j["patch"] = c.patch;
+  j["train_views"] = c.trainViews;
   j["progress_every"] = c.progressEvery;
   j["eval_every"] = c.evalEvery;
   j["checkpoint_every"] = c.checkpointEvery;
@@ -197,6 +198,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.densityDecay = j.at("density_decay").get<double>();
     c.densityResetValue = j.at("density_reset_value").get<double>();
     c.patch = j.at("patch").get<uint32_t>();
+    c.trainViews = j.value("train_views", 0u);  // runs written before the option used every view
     c.progressEvery = j.at("progress_every").get<int>();
     c.evalEvery = j.at("eval_every").get<int>();
     c.checkpointEvery = j.at("checkpoint_every").get<int>();

@@ -78,6 +78,9 @@ struct TrainConfig {
   // (SSIM needs an image-shaped batch: a patch keeps its window statistics; about P^2 / (w h)
   // of the rays and time per step, and the same number of steps sees P^2 / (w h) of the pixels).
   uint32_t patch = 0;
+  // Training views used (number-of-views sweeps): 0 all of them, N an even spread of N
+  // (engine/train/train_views.h), applied wherever the run's dataset is loaded.
+  uint32_t trainViews = 0;
 
   // Logging and files.
   int progressEvery = 50, evalEvery = 0, checkpointEvery = 500;

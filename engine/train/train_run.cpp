@@ -13,6 +13,7 @@
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/render_run.h"
+#include "engine/train/train_views.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
 
@@ -121,7 +122,9 @@ std::unique_ptr<TrainSession> openRun(Context& ctx, const std::string& runDir, b
   TrainConfig c = readRunConfig(runDir);
   std::string ckpt = latestCheckpoint(runDir);
   if (ckpt.empty() && requireCheckpoint) fail(runDir + " has no checkpoint yet");
-  auto s = createTrainSession(ctx, c, loadDataset(c.dataset, c.datasetOptions));
+  Dataset dataset = loadDataset(c.dataset, c.datasetOptions);
+  keepTrainViews(dataset, c.trainViews);
+  auto s = createTrainSession(ctx, c, std::move(dataset));
   if (!ckpt.empty()) loadCheckpoint(*s, ckpt);
   return s;
 }
