@@ -64,6 +64,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
     c.trainViews = uint32_t(std::min<long>(n, 1000000000));
   }
   c.densityDecay = a.getDouble("density-decay", 0.99);
+  c.densityLossWeight = a.getDouble("density-loss", 0.007);
   scheduleOption(a, "surface-freeze", c.schedule.surfaceFreeze);
   scheduleOption(a, "face-normals-until", c.schedule.faceNormalsUntil);
   scheduleOption(a, "sh-interval", c.schedule.shDegreeInterval);
@@ -156,6 +157,7 @@ std::vector<cli::Option> trainOptions() {
       {"train-views", "N", "train on N of the training views, spread evenly in file order (first and last included); the test views are unchanged", "all"},
       {"patch", "P", "train on one random P x P patch per step (0: whole images); ~P^2/(w h) of the time per step", "0"},
       {"density-decay", "X", "density multiplier every --density-decay-every steps", "0.99"},
+      {"density-loss", "X", "weight of the density loss X mean(density^2) over all Gaussians (0: off, the paper's ablation)", "0.007"},
       {"surface-freeze", "N", "surface frozen for the first N steps", "1000 x steps/15000"},
       {"face-normals-until", "N", "flat face normals until step N, then interpolated", "7500 x steps/15000"},
       {"sh-interval", "N", "SH degree +1 every N steps", "1000 x steps/15000"},

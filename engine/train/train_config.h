@@ -71,6 +71,9 @@ struct TrainConfig {
   ScheduleSteps schedule;
   double densityDecay = 0.99;
   double densityResetValue = 0.01;
+  // Weight of the density (opacity) loss, weight * mean(sigmoid(logit)^2) over all Gaussians;
+  // reference 0.007 (DESIGN 1.6), 0 switches it off (the paper's ablation).
+  double densityLossWeight = 0.007;
   bool densify = true;             // clone/split/prune (engine/densify.h)
   double densifyGradThreshold = 3e-4;
 
