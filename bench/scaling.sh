@@ -64,7 +64,8 @@ lines = ['# Scaling', '', 'Device: %s. Sizes: %s. Wall time of the suite: %d min
          'Refraction model (`refrax bench scaling`): one training step on a whole training image (camera rays, surface forward, '
          'Gaussian forward, loss, Gaussian and surface backward, Adam), one rendered frame of the test view through the water; '
          'medians of wall times. Peak memory: the process\'s peak resident set (VmHWM) during the setting; on lavapipe the device '
-         'buffers are host memory and are included.', '']
+         'buffers are host memory and are included. The base setting appears once in each sweep, measured each time: the spread '
+         'between those rows is the run-to-run noise of the machine (other work ran beside it).', '']
 for sweep, col, label in sweeps:
     part = sorted((r for r in rows if r['sweep'] == sweep), key=lambda r: float(r[col]))
     with open('%s/scaling_%s.csv' % (out, sweep), 'w', newline='') as f:
