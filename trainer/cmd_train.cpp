@@ -2,6 +2,7 @@
 // and the Gaussians under it (engine/train/). --no-refraction and --flat-water train the
 // comparison models on the same data, --known-water the oracle (the true surface, fixed).
 // --resume RUN continues from the newest checkpoint.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -11,6 +12,7 @@
 #include "engine/io/json_io.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/train_run.h"
+#include "engine/train/train_views.h"
 #include "engine/vk_context.h"
 #include "trainer/cli.h"
 #include "trainer/dataset_options.h"
@@ -57,7 +59,13 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.gridCells = positiveCount(a, "grid-cells", 64, 1, 4096);
   c.subdivisionLevels = positiveCount(a, "subdivision", 2, 0, 6);
   c.patch = positiveCount(a, "patch", 0, 0, 16384);
+  if (a.has("train-views")) {
+    long n = a.getInt("train-views", 0);
+    if (n < 1) fail("--train-views must be at least 1, got " + a.get("train-views"));
+    c.trainViews = uint32_t(std::min<long>(n, 1000000000));
+  }
   c.densityDecay = a.getDouble("density-decay", 0.99);
+  c.densityLossWeight = a.getDouble("density-loss", 0.007);
   scheduleOption(a, "surface-freeze", c.schedule.surfaceFreeze);
   scheduleOption(a, "face-normals-until", c.schedule.faceNormalsUntil);
   scheduleOption(a, "octaves-open-until", c.schedule.octavesOpenUntil);
@@ -113,6 +121,7 @@ int runTrain(const cli::Args& args) {
   TrainConfig config = configFromArgs(args);
   config.dataset = fs::absolute(args.positional[0]).lexically_normal().string();
   Dataset dataset = loadDataset(config.dataset, config.datasetOptions);
+  keepTrainViews(dataset, config.trainViews);  // before the scene bounds: they come from the views trained on
   resolveSceneConfig(config, dataset);
   auto ctx = cli::openContext(args);
   auto session = createTrainSession(*ctx, config, std::move(dataset));
@@ -148,8 +157,10 @@ std::vector<cli::Option> trainOptions() {
       {"surface-lr", "X", "surface learning rate at step 0 (MLP weights, or the flat height), decaying to X/100 (reference 5e-4)", "5e-4"},
       {"grid-cells", "N", "water-surface proxy mesh cells per side", "64"},
       {"subdivision", "K", "recursive subdivision levels of the surface trace", "2"},
+      {"train-views", "N", "train on N of the training views, spread evenly in file order (first and last included); the test views are unchanged", "all"},
       {"patch", "P", "train on one random P x P patch per step (0: whole images); ~P^2/(w h) of the time per step", "0"},
       {"density-decay", "X", "density multiplier every --density-decay-every steps", "0.99"},
+      {"density-loss", "X", "weight of the density loss X mean(density^2) over all Gaussians (0: off, the paper's ablation)", "0.007"},
       {"surface-freeze", "N", "surface frozen for the first N steps", "1000 x steps/15000"},
       {"face-normals-until", "N", "flat face normals until step N, then interpolated", "7500 x steps/15000"},
       {"octaves-open-until", "N", "every encoding octave open from step N (the window opens linearly from --surface-freeze)", "7500 x steps/15000"},

@@ -63,4 +63,16 @@ std::vector<SynthCamera> gridCameras(double cx, double cy, double z, double spac
   return cams;
 }
 
+SynthCamera tiltedAboutX(const SynthCamera& cam, const glm::dvec3& pivot, double angleDeg) {
+  double c = std::cos(angleDeg * kDeg), s = std::sin(angleDeg * kDeg);
+  // Columns: x kept, y -> (0, c, s), z -> (0, -s, c): +Z (a camera's back axis when it looks
+  // down) turns towards -y, so the eye above the pivot moves to -y and looks towards +y.
+  glm::dmat3 r(glm::dvec3(1, 0, 0), glm::dvec3(0, c, s), glm::dvec3(0, -s, c));
+  SynthCamera t = cam;
+  glm::dvec3 axes[3];
+  for (int i = 0; i < 3; i++) axes[i] = r * glm::dvec3(cam.cameraToWorld[i]);
+  setAxes(t, axes[0], axes[1], axes[2], pivot + r * (cameraCentre(cam) - pivot));
+  return t;
+}
+
 }  // namespace refrax::synth

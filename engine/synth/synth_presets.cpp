@@ -224,6 +224,8 @@ SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t se
     auto grid = gridCameras(0, 0, 1.0, 0.2, w, w, 45 * kDeg);
     for (int i = 0; i < 9; i++) (i == 4 ? p.test : p.train).push_back(grid[i]);
     p.air = p.test;  // the water-removal view is the held-out centre view
+    p.tiltableRig = true;
+    p.rigPivot = {0, 0, -0.5};  // the top of the picture on the pool floor, 1.5 under the centre camera
     p.description = "NeRFrac-like synthetic scene: 3 x 3 downward cameras, centre held out, IOR 1.1, " + p.surfaceDescription;
   } else {
     p.ior = 1.33;
@@ -257,6 +259,9 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
   if (!positive(v.amplitudeScale)) fail("synth: the wave amplitude scale must be a positive number");
   if (!positive(v.wavelengthScale)) fail("synth: the wavelength scale must be a positive number");
   if (v.width != 0 && (v.width < 8 || v.width > 8192)) fail("synth: the image width must be in 8..8192");
+  if (!std::isfinite(v.tiltDeg) || v.tiltDeg < 0 || v.tiltDeg > 60) fail("synth: the tilt must be 0..60 degrees from the vertical");
+  if (v.tiltDeg != 0 && !p.tiltableRig) fail("synth: --tilt applies to the NeRFrac-like presets (their 3 x 3 downward rig) only");
+  if (v.ior && !(std::isfinite(*v.ior) && *v.ior > 1 && *v.ior <= 2)) fail("synth: the IOR must be greater than 1 and at most 2");
   for (auto& w : p.water.waves) {
     w.amplitude *= v.amplitudeScale;
     w.kx /= v.wavelengthScale;
@@ -270,6 +275,27 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
     char what[96];
     std::snprintf(what, sizeof what, " (amplitudes x%g, wavelengths x%g)", v.amplitudeScale, v.wavelengthScale);
     p.surfaceDescription += what;
+    p.description += what;
+  }
+  if (v.ior) {
+    char what[48];
+    std::snprintf(what, sizeof what, " (IOR %g instead of %g)", *v.ior, p.ior);
+    p.description += what;
+    p.ior = *v.ior;
+  }
+  if (v.tiltDeg != 0) {
+    for (auto* cams : {&p.train, &p.test, &p.air})
+      for (auto& c : *cams) {
+        c = tiltedAboutX(c, p.rigPivot, v.tiltDeg);
+        // A camera between the crests would see the water from below: not this scene.
+        if (cameraCentre(c).z <= p.water.meanHeight + waveHeightBound(p.water)) {
+          char why[96];
+          std::snprintf(why, sizeof why, "synth: a tilt of %g degrees puts a camera under the wave crests", v.tiltDeg);
+          fail(why);
+        }
+      }
+    char what[96];
+    std::snprintf(what, sizeof what, " (rig tilted %g deg from the vertical about the pool-floor centre)", v.tiltDeg);
     p.description += what;
   }
   if (v.width != 0)

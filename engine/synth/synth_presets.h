@@ -3,6 +3,7 @@
 // IOR 1.1, sine-based water) and of RefracGS's scenes (1.5 m x 1.5 m x 1 m, IOR 1.33, a
 // rippled surface drawn from a wave spectrum, surround rings plus a downward variant).
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ struct SynthPreset {
   int samplesPerAxis = 2;
   int heightMapSize = 512;  // samples per side of water_gt_height.npy
   int meshGridSize = 257;   // vertices per side of water_gt.gltf
+  // The NeRFrac-like 3 x 3 downward rig can be tilted (--tilt) about the horizontal x axis
+  // through rigPivot, the centre of the pool floor, which its centre camera looks at.
+  bool tiltableRig = false;
+  glm::dvec3 rigPivot{0.0};
 };
 
 std::vector<std::string> synthPresetNames();
@@ -34,13 +39,18 @@ bool isSynthPreset(const std::string& name);
 // refrax::Error on an unknown name or a missing texture.
 SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t seed, const std::string& textureDir);
 // A preset varied for sweeps and for regimes the defaults do not reach (refrax synth --width,
-// --wave-amplitude, --wavelength): every camera resized to `width` pixels wide (0: kept; the
-// field of view and aspect kept), every wave's amplitude times amplitudeScale and wavelength
-// times wavelengthScale (directions and phases kept). refrax::Error for a scale <= 0 or
-// non-finite, a width outside 8..8192, or waves that would reach the scene.
+// --wave-amplitude, --wavelength, --tilt, --ior): every camera resized to `width` pixels wide
+// (0: kept; the field of view and aspect kept), every wave's amplitude times amplitudeScale
+// and wavelength times wavelengthScale (directions and phases kept), the tiltable rig rotated
+// rigidly by tiltDeg from the vertical about the pool-floor centre (tiltRig), the IOR replaced
+// by `ior` when given. refrax::Error for a scale <= 0 or non-finite, a width outside 8..8192,
+// waves that would reach the scene, a tilt outside 0..60 or on a preset without the rig, a
+// camera that the tilt would put under the wave crests, or an IOR outside (1, 2].
 struct SynthVariation {
   int width = 0;
   double amplitudeScale = 1, wavelengthScale = 1;
+  double tiltDeg = 0;
+  std::optional<double> ior;
 };
 void applySynthVariation(SynthPreset& preset, const SynthVariation& variation);
 // Textures by file stem from textureDir, as RGB.

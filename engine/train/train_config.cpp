@@ -85,6 +85,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.domain.xMax > c.domain.xMin && c.domain.yMax > c.domain.yMin, "the surface domain is empty");
   for (int a = 0; a < 3; a++) need(c.boxMax[a] >= c.boxMin[a], "the initial Gaussian box is empty");
   need(c.densityDecay > 0 && c.densityDecay <= 1, "--density-decay must be in (0, 1]");
+  need(std::isfinite(c.densityLossWeight) && c.densityLossWeight >= 0 && c.densityLossWeight <= 1000, "--density-loss must be in [0, 1000]");
   need(c.schedule.shDegreeInterval >= 1, "--sh-interval must be at least 1");
   need(c.schedule.lrSteps >= 1, "--lr-steps must be at least 1");
   need(c.progressEvery >= 1, "--progress-every must be at least 1");
@@ -142,7 +143,9 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["densify_grad_threshold"] = c.densifyGradThreshold;
   j["density_decay"] = c.densityDecay;
   j["density_reset_value"] = c.densityResetValue;
+  j["density_loss"] = c.densityLossWeight;
   j["patch"] = c.patch;
+  j["train_views"] = c.trainViews;
   j["progress_every"] = c.progressEvery;
   j["eval_every"] = c.evalEvery;
   j["checkpoint_every"] = c.checkpointEvery;
@@ -211,7 +214,9 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.densifyGradThreshold = j.at("densify_grad_threshold").get<double>();
     c.densityDecay = j.at("density_decay").get<double>();
     c.densityResetValue = j.at("density_reset_value").get<double>();
+    c.densityLossWeight = j.value("density_loss", 0.007);  // runs written before the option: the reference
     c.patch = j.at("patch").get<uint32_t>();
+    c.trainViews = j.value("train_views", 0u);  // runs written before the option used every view
     c.progressEvery = j.at("progress_every").get<int>();
     c.evalEvery = j.at("eval_every").get<int>();
     c.checkpointEvery = j.at("checkpoint_every").get<int>();

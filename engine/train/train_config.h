@@ -79,6 +79,9 @@ struct TrainConfig {
   ScheduleSteps schedule;
   double densityDecay = 0.99;
   double densityResetValue = 0.01;
+  // Weight of the density (opacity) loss, weight * mean(sigmoid(logit)^2) over all Gaussians;
+  // reference 0.007 (DESIGN 1.6), 0 switches it off (the paper's ablation).
+  double densityLossWeight = 0.007;
   bool densify = true;             // clone/split/prune (engine/densify.h)
   double densifyGradThreshold = 3e-4;
 
@@ -86,6 +89,9 @@ struct TrainConfig {
   // (SSIM needs an image-shaped batch: a patch keeps its window statistics; about P^2 / (w h)
   // of the rays and time per step, and the same number of steps sees P^2 / (w h) of the pixels).
   uint32_t patch = 0;
+  // Training views used (number-of-views sweeps): 0 all of them, N an even spread of N
+  // (engine/train/train_views.h), applied wherever the run's dataset is loaded.
+  uint32_t trainViews = 0;
 
   // Logging and files.
   int progressEvery = 50, evalEvery = 0, checkpointEvery = 500;

@@ -13,6 +13,7 @@
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/render_run.h"
+#include "engine/train/train_views.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
 
@@ -62,6 +63,31 @@ std::vector<double> sampleWaterHeights(TrainSession& s, uint32_t nx, uint32_t ny
   return out;
 }
 
+namespace {
+
+std::string evaluationsPath(const std::string& runDir) { return (std::filesystem::path(runDir) / "evaluations.json").string(); }
+
+// One point of the accuracy-against-time curve: the metrics after `step`, and the wall time
+// spent in training steps up to it (evaluations themselves are not counted).
+nlohmann::json evaluationPoint(const TrainSession& s, const nlohmann::json& m) {
+  nlohmann::json e = {{"step", s.step}, {"seconds", s.trainingSeconds}, {"psnr", m["psnr"]}, {"ssim", m["ssim"]}};
+  if (m.contains("surface_rmse")) e["surface_rmse"] = m["surface_rmse"];
+  return e;
+}
+
+}  // namespace
+
+nlohmann::json readEvaluations(const std::string& runDir, int upToStep) {
+  nlohmann::json kept = nlohmann::json::array();
+  std::string path = evaluationsPath(runDir);
+  if (!fileExists(path)) return kept;
+  nlohmann::json all = readJson(path);
+  if (!all.is_array()) fail(path + ": not an array of evaluations");
+  for (const auto& e : all)
+    if (e.is_object() && e.contains("step") && e["step"].is_number_integer() && e["step"].get<int>() <= upToStep) kept.push_back(e);
+  return kept;
+}
+
 nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   namespace fs = std::filesystem;
   fs::path dir(runDir);
@@ -78,6 +104,9 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   nlohmann::json m = evaluateSession(s, s.dataset, (dir / "renders").string());
   m["water_height_domain"] = {s.config.domain.xMin, s.config.domain.yMin, s.config.domain.xMax, s.config.domain.yMax};
   if (s.config.model == WaterModel::FlatWater) m["flat_water_height"] = s.planeHeight;
+  nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
+  evaluations.push_back(evaluationPoint(s, m));
+  m["evaluations"] = evaluations;
   writeJson((dir / "metrics.json").string(), m);
   return m;
 }
@@ -101,6 +130,10 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     }
     if (c.evalEvery > 0 && s.step % c.evalEvery == 0 && s.step < c.steps) {
       nlohmann::json m = evaluateSession(s, s.dataset, "");
+      // Kept on disk as it grows, so a resumed run's curve still starts at step 0.
+      nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
+      evaluations.push_back(evaluationPoint(s, m));
+      writeJson(evaluationsPath(runDir), evaluations);
       char line[160];
       std::snprintf(line, sizeof line, "eval step %d: test psnr %.3f ssim %.4f", s.step, m["psnr"].get<double>(), m["ssim"].get<double>());
       say(line);
@@ -121,7 +154,9 @@ std::unique_ptr<TrainSession> openRun(Context& ctx, const std::string& runDir, b
   TrainConfig c = readRunConfig(runDir);
   std::string ckpt = latestCheckpoint(runDir);
   if (ckpt.empty() && requireCheckpoint) fail(runDir + " has no checkpoint yet");
-  auto s = createTrainSession(ctx, c, loadDataset(c.dataset, c.datasetOptions));
+  Dataset dataset = loadDataset(c.dataset, c.datasetOptions);
+  keepTrainViews(dataset, c.trainViews);
+  auto s = createTrainSession(ctx, c, std::move(dataset));
   if (!ckpt.empty()) loadCheckpoint(*s, ckpt);
   return s;
 }

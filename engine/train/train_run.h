@@ -1,5 +1,6 @@
 #pragma once
 // A training run on disk: RUN/config.json (the resolved configuration), RUN/checkpoints/,
+// RUN/evaluations.json (with --eval-every),
 // and at the end point_cloud.ply, water_height.npy (+ height_field.bin), renders/ and
 // metrics.json. Every file is written atomically; a bad dataset fails before RUN is created.
 #include <functional>
@@ -32,7 +33,14 @@ struct TrainProgress {
 // final outputs. runDir must exist and hold config.json.
 nlohmann::json trainToEnd(TrainSession& session, const std::string& runDir, const TrainProgress& progress);
 
-// Writes the final outputs of the session into runDir.
+// RUN/evaluations.json: one entry per --eval-every evaluation, {step, seconds (training
+// wall time up to that step, evaluations excluded), psnr, ssim, surface_rmse (when the
+// dataset has a ground-truth surface)}, written as training goes; entries past `upToStep`
+// (left by a run resumed from an earlier checkpoint) are dropped. Empty when absent.
+nlohmann::json readEvaluations(const std::string& runDir, int upToStep);
+
+// Writes the final outputs of the session into runDir. metrics.json's "evaluations" is the
+// run's evaluations (above) followed by the final one, the accuracy-against-time curve.
 nlohmann::json writeRunOutputs(TrainSession& session, const std::string& runDir);
 
 // config.json of a run, and its session restored from the newest checkpoint (with the

@@ -349,7 +349,7 @@ StepResult trainStep(TrainSession& s) {
   for (size_t i = 0; i < count; i++) {
     double sg = sigmoid(s.gaussians.at(i)[f32::kGaussLogitDensity]);
     densitySquares += sg * sg;
-    grads[i * kGaussianFloats + f32::kGaussLogitDensity] += float(kDensityRegularizerWeight / double(count) * 2 * sg * sg * (1 - sg));
+    grads[i * kGaussianFloats + f32::kGaussLogitDensity] += float(c.densityLossWeight / double(count) * 2 * sg * sg * (1 - sg));
   }
   gaussianAdamStep(s.gaussianAdam, s.gaussians, grads);
   applyDensitySchedule(s, t);
@@ -380,7 +380,7 @@ StepResult trainStep(TrainSession& s) {
   if (timing) std::fprintf(stderr, "\n");
 
   r.imageLoss = lossResult[0];
-  r.loss = r.imageLoss + kDensityRegularizerWeight * densitySquares / double(count);
+  r.loss = r.imageLoss + c.densityLossWeight * densitySquares / double(count);
   r.psnr = batchPsnr(rendered, target);
   r.gaussians = uint32_t(s.gaussians.count());
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");
