@@ -7,7 +7,7 @@
 #
 # Usage: bench/speed-accuracy.sh [--full | --smoke] [--out DIR] [--keep-work]
 #   default  tiny presets (64 x 64 px, 8 training views), 32 x 32 patches, SH degree 0, 2,000
-#            initial Gaussians; every run gets 50 s of training: the steps that fill it at its
+#            initial Gaussians; every run gets 40 s of training: the steps that fill it at its
 #            configuration's step time, measured first (10..3000 steps); 6 evaluations per run.
 #            About 20 minutes on 2 lavapipe cores (warm-up compiles included).
 #   --full   full-size presets (392 x 392 px), 15,000 steps, whole images, SH degree 3,
@@ -24,7 +24,7 @@ presets=(nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid)
 # step time measured here first (so a slow configuration gets fewer steps, not more time, and
 # the suite's length does not depend on the machine's load). Full size: fixed reference steps.
 case $mode in
-  default) budget=50 evals=6 common="--patch 32 --sh-degree 0 --gaussians 2000" ;;
+  default) budget=40 evals=6 common="--patch 32 --sh-degree 0 --gaussians 2000" ;;
   full) budget="" steps=15000 evals=10 common="" ;;
   smoke) budget=3 evals=2 common="--patch 16 --sh-degree 0 --gaussians 300"; presets=(nerfrac-primary-sine) ;;
 esac
