@@ -91,16 +91,19 @@ suite_warmup() {
 }
 
 # suite_step_seconds dataset [train options...]: training seconds per step of these options,
-# from an 8-step run after suite_warmup (surface unfrozen: every stage of a step is timed).
+# after suite_warmup, from a 16-step run (surface unfrozen: every stage of a step is timed):
+# the time between its evaluations at steps 4 and 16, so the first steps' one-off costs
+# (pipelines loaded on first dispatch, buffers allocated) stay out.
 suite_step_seconds() {
   local data=$1
   shift
   suite_warmup "$data" "$@"
   local dir=$work/timing
   rm -rf "$dir" "$work/timing.csv"
-  "$REFRAX" train "$data" -o "$dir" "$@" --steps 8 --surface-freeze 0 --checkpoint-every 0 --progress-every 100000 > "$work/timing.log" 2>&1 &&
-    "$REFRAX" report "$dir" -o "$work/timing.csv" > /dev/null &&
-    awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "training_seconds") c = i; next } { printf "%.4f\n", $c / 8 }' "$work/timing.csv" ||
+  "$REFRAX" train "$data" -o "$dir" "$@" --steps 16 --eval-every 4 --surface-freeze 0 --checkpoint-every 0 --progress-every 100000 > "$work/timing.log" 2>&1 &&
+    "$REFRAX" report "$dir" -o "$work/timing.csv" --evaluations > /dev/null &&
+    awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "eval_step") a = i; if ($i == "eval_seconds") b = i }; next }
+      $a == 4 { s0 = $b } $a == 16 { s1 = $b } END { printf "%.4f\n", (s1 - s0) / 12 }' "$work/timing.csv" ||
     echo 0  # a failing configuration fails again in its run, and is reported there
   rm -rf "$dir"
 }
