@@ -42,6 +42,7 @@ suite_parse_args() {  # suite name, then the script's arguments
   [ $mode = full ] && size=full
   device=$("$REFRAX" devices | sed -n '1s/^\[[0-9]*\] //p')  # sed reads every line: no SIGPIPE under pipefail
   suite_start=$(date +%s)
+  load_at_start=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)
   echo "$suite ($mode) on $device -> $out"
 }
 
@@ -91,8 +92,8 @@ suite_warmup() {
 }
 
 # suite_step_seconds dataset [train options...]: training seconds per step of these options,
-# after suite_warmup, from a 16-step run (surface unfrozen: every stage of a step is timed):
-# the time between its evaluations at steps 4 and 16, so the first steps' one-off costs
+# after suite_warmup, from an 8-step run (surface unfrozen: every stage of a step is timed):
+# the time between its evaluations at steps 2 and 8, so the first steps' one-off costs
 # (pipelines loaded on first dispatch, buffers allocated) stay out.
 suite_step_seconds() {
   local data=$1
@@ -100,10 +101,10 @@ suite_step_seconds() {
   suite_warmup "$data" "$@"
   local dir=$work/timing
   rm -rf "$dir" "$work/timing.csv"
-  "$REFRAX" train "$data" -o "$dir" "$@" --steps 16 --eval-every 4 --surface-freeze 0 --checkpoint-every 0 --progress-every 100000 > "$work/timing.log" 2>&1 &&
+  "$REFRAX" train "$data" -o "$dir" "$@" --steps 8 --eval-every 2 --surface-freeze 0 --checkpoint-every 0 --progress-every 100000 > "$work/timing.log" 2>&1 &&
     "$REFRAX" report "$dir" -o "$work/timing.csv" --evaluations > /dev/null &&
     awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "eval_step") a = i; if ($i == "eval_seconds") b = i }; next }
-      $a == 4 { s0 = $b } $a == 16 { s1 = $b } END { printf "%.4f\n", (s1 - s0) / 12 }' "$work/timing.csv" ||
+      $a == 2 { s0 = $b } $a == 8 { s1 = $b } END { printf "%.4f\n", (s1 - s0) / 6 }' "$work/timing.csv" ||
     echo 0  # a failing configuration fails again in its run, and is reported there
   rm -rf "$dir"
 }
@@ -124,6 +125,11 @@ suite_table() {
     { line = "|"; for (k = 1; k <= n; k++) { v = (c[k] in idx) ? $idx[c[k]] : "";
         if (v ~ /^-?[0-9]+\.[0-9]+(e-?[0-9]+)?$/) v = sprintf(((v + 0 < 0.1 && v + 0 > -0.1) ? "%.4g" : "%.2f"), v);
         line = line " " v " |" } print line }' "$csv"
+}
+
+# The machine's load: a shared machine's timings need it said.
+suite_load_line() {
+  echo "Load average (1, 5, 15 min) at the start: $load_at_start; at the end: $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown) ($(nproc) cores)."
 }
 
 suite_elapsed() { echo $(( $(date +%s) - suite_start )); }
