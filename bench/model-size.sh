@@ -34,9 +34,13 @@ for b in $budgets; do runs+=("gaussians|$b|budget|--gaussians $b --max-gaussians
 [ $mode = smoke ] && runs=("mlp-width|16|width|--mlp-width 16" "mlp-width|64|width|--mlp-width 64")
 defaults="--mlp-width 64 --mlp-layers 3 --mlp-octaves 6 --grid-cells 64 --subdivision 2"
 
-rm -f "$out"/*.csv "$out"/*.svg "$out/failures.txt"
 csv=$out/model-size.csv
-data=$(suite_dataset "$preset")
+if [ $charts_only = 1 ]; then
+  runs=()
+else
+  rm -f "$out"/*.csv "$out"/*.svg "$out/failures.txt"
+  data=$(suite_dataset "$preset")
+fi
 echo "warming up the shader cache (one 4-step run per configuration)"
 for entry in "${runs[@]}"; do
   IFS='|' read -r sweep value series options <<< "$entry"
@@ -64,6 +68,7 @@ for entry in "${runs[@]}"; do
   [ "$key" = defaults ] && [ -f "$work/runs/$name/metrics.json" ] && done_run[defaults]=$name
 done
 
+[ $charts_only = 1 ] && rm -f "$out"/mlp-*.csv "$out"/grid.csv "$out"/gaussians.csv "$out"/*.svg
 # One CSV per sweep (the chart tool draws every row of its file), then its two charts.
 declare -A label=([mlp-width]="MLP width (hidden units)" [mlp-layers]="MLP hidden layers" [mlp-octaves]="frequency-encoding octaves"
                   [grid]="coarse grid cells per side (series: subdivision levels K)" [gaussians]="Gaussian budget (initial = cap)")

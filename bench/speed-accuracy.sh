@@ -45,9 +45,11 @@ configs=(
 )
 [ $mode = smoke ] && configs=("${configs[0]}" "${configs[3]}")
 
-rm -f "$out"/*.csv "$out"/*.svg "$out/failures.txt"
 declare -A steps_of per_step
-if [ -n "$budget" ]; then
+if [ $charts_only = 1 ]; then
+  for entry in "${configs[@]}"; do steps_of[${entry%%|*}]=STEPS; done
+elif [ -n "$budget" ]; then
+  rm -f "$out"/*.csv "$out"/*.svg "$out/failures.txt"
   echo "measuring each configuration's step time (after a warm-up run that compiles its pipelines)"
   timing_data=$(suite_dataset "${presets[0]}")  # every preset has the same image size and rig
   for entry in "${configs[@]}"; do
@@ -61,6 +63,7 @@ if [ -n "$budget" ]; then
     echo "  $name: ${per_step[$name]} s/step -> ${steps_of[$name]} steps"
   done
 else
+  rm -f "$out"/*.csv "$out"/*.svg "$out/failures.txt"
   echo "warming up the shader cache (one 4-step run per configuration)"
   warm_data=$(suite_dataset "${presets[0]}")
   for entry in "${configs[@]}"; do
@@ -75,10 +78,10 @@ else
 fi
 
 for preset in "${presets[@]}"; do
-  echo "$preset:"
-  data=$(suite_dataset "$preset")
   csv=$out/$preset.csv
-  for entry in "${configs[@]}"; do
+  [ $charts_only = 1 ] && configs_to_run=() || configs_to_run=("${configs[@]}")
+  [ $charts_only = 1 ] || { echo "$preset:"; data=$(suite_dataset "$preset"); }
+  for entry in "${configs_to_run[@]}"; do
     name=${entry%%|*}
     n=${steps_of[$name]}
     every=$(( n / evals > 0 ? n / evals : 1 ))

@@ -4,6 +4,8 @@
 #   --smoke      a seconds-long run of the whole pipeline (1 preset, 2 configurations, ~20 steps)
 #   --out DIR    report folder (default bench/results/<suite>/)
 #   --keep-work  keep the datasets and run folders (in DIR/work/) instead of a temporary folder
+#   --charts-only  no training: the charts and summary.md again from the CSVs in DIR (e.g. after
+#                an interrupted run: its rows are appended run by run)
 # REFRAX=path/to/refrax overrides the binary (default build/refrax).
 set -euo pipefail
 
@@ -16,14 +18,16 @@ suite_parse_args() {  # suite name, then the script's arguments
   mode=default
   out=$suite_root/bench/results/$suite
   keep_work=0
+  charts_only=0
   while [ $# -gt 0 ]; do
     case $1 in
       --full) mode=full ;;
       --smoke) mode=smoke ;;
       --out) [ $# -ge 2 ] || { echo "$suite: --out needs a folder" >&2; exit 2; }; out=$2; shift ;;
       --keep-work) keep_work=1 ;;
+      --charts-only) charts_only=1 ;;
       -h|--help) sed -n '2,/^set -/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit 0 ;;
-      *) echo "$suite: unknown option '$1' (--full, --smoke, --out DIR, --keep-work)" >&2; exit 2 ;;
+      *) echo "$suite: unknown option '$1' (--full, --smoke, --out DIR, --keep-work, --charts-only)" >&2; exit 2 ;;
     esac
     shift
   done
