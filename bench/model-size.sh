@@ -7,7 +7,8 @@
 # Usage: bench/model-size.sh [--full | --smoke] [--out DIR] [--keep-work]
 #   default  nerfrac-hybrid tiny (64 x 64 px, 8 training views), 300 steps, 32 x 32 patches,
 #            SH degree 0, 2,000 initial Gaussians (the budget sweep sets both the initial count
-#            and the cap). About 20 minutes on 2 lavapipe cores.
+#            and the cap). Measured: 41 minutes on 2 shared lavapipe cores (load 6-10), 18 of
+#            them the width-128 run (layered kernels); the other 15 runs take 15-160 s each.
 #   --full   full size (392 x 392 px), 15,000 steps, whole images, SH degree 3, 20,000 initial
 #            Gaussians; budgets 2k, 5k, 20k, 100k.
 #   --smoke  two configurations, 20 steps (checks the pipeline, not the method).

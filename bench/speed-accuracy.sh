@@ -9,7 +9,8 @@
 #   default  tiny presets (64 x 64 px, 8 training views), 32 x 32 patches, SH degree 0, 2,000
 #            initial Gaussians; every run gets 40 s of training: the steps that fill it at its
 #            configuration's step time, measured first (3..3000 steps); 6 evaluations per run.
-#            About 20 minutes on 2 lavapipe cores (warm-up compiles included).
+#            The reference configuration: 3 steps on the first preset (see below). Measured:
+#            23 minutes on 2 shared lavapipe cores (load 8-10), 13 of them the reference's 3 steps.
 #   --full   full-size presets (392 x 392 px), 15,000 steps, whole images, SH degree 3,
 #            20,000 initial Gaussians (the reference schedule); 10 evaluations per run.
 #   --smoke  one preset, two configurations, 3 s budgets (checks the pipeline, not the method).
@@ -24,8 +25,9 @@ presets=(nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid)
 # step time measured here first (so a slow configuration gets fewer steps, not more time, and
 # the suite's length does not depend on the machine's load). Full size: fixed reference steps.
 # fixed_steps / first_preset_only: configurations too slow for the budget on this machine. The
-# reference's 6 x 256 MLP over a 201 x 201 grid takes tens of seconds per step on lavapipe
-# (about 50x the defaults' step): it gets 3 steps, on the first preset only, and no timing run.
+# reference's 6 x 256 MLP over a 201 x 201 grid takes minutes per step on lavapipe (522x the
+# defaults' step in bench/results/speed-accuracy/): it gets 3 steps, on the first preset only,
+# and no timing run.
 declare -A fixed_steps=() first_preset_only=()
 case $mode in
   default) budget=40 evals=6 common="--patch 32 --sh-degree 0 --gaussians 2000"; fixed_steps=([reference]=3); first_preset_only=([reference]=1) ;;
