@@ -68,6 +68,18 @@ void widen(double& lo, double& hi, bool log) {
   }
 }
 
+// Ticks for a linear axis, the range [lo, hi] widened to the ticks just outside it, so that
+// both ends of the axis carry a label.
+std::vector<double> toTicks(double& lo, double& hi, int target) {
+  std::vector<double> t = niceTicks(lo, hi, target);
+  double step = t.size() > 1 ? t[1] - t[0] : std::max(hi - lo, 1e-9);
+  if (t.front() > lo + 1e-9 * step) t.insert(t.begin(), t.front() - step);
+  if (t.back() < hi - 1e-9 * step) t.push_back(t.back() + step);
+  lo = std::min(lo, t.front());
+  hi = std::max(hi, t.back());
+  return t;
+}
+
 }  // namespace
 
 PlotBox chartPlotBox(const ChartSpec& s) { return {72.0, 48.0, double(s.width) - 200.0, double(s.height) - 58.0}; }
@@ -124,25 +136,16 @@ std::string renderSvgChart(const std::vector<ChartSeries>& series, const ChartSp
   widen(ylo, yhi, false);
   // Linear axes end on ticks, so the box edges carry labels; the log axis ends at the data
   // (padded by 5% of a decade-scaled span).
-  std::vector<double> xt, yt = niceTicks(ylo, yhi, 6);
+  std::vector<double> xt, yt;
   if (spec.logX) {
     double pad = std::pow(10.0, 0.03 * (std::log10(xhi) - std::log10(xlo)));
     xlo /= pad;
     xhi *= pad;
     xt = logTicks(xlo, xhi);
   } else {
-    xt = niceTicks(xlo, xhi, 7);
-    double step = xt.size() > 1 ? xt[1] - xt[0] : 1;
-    xlo = std::min(xlo, xt.front());
-    xhi = std::max(xhi, xt.back() < xhi - 1e-9 * step ? xt.back() + step : xt.back());
-    xt = niceTicks(xlo, xhi, 7);
+    xt = toTicks(xlo, xhi, 7);
   }
-  {
-    double step = yt.size() > 1 ? yt[1] - yt[0] : 1;
-    ylo = std::min(ylo, yt.front());
-    yhi = std::max(yhi, yt.back() < yhi - 1e-9 * step ? yt.back() + step : yt.back());
-    yt = niceTicks(ylo, yhi, 6);
-  }
+  yt = toTicks(ylo, yhi, 6);
   PlotBox box = chartPlotBox(spec);
   Axis ax{xlo, xhi, spec.logX, box.left, box.right}, ay{ylo, yhi, false, box.bottom, box.top};
 
