@@ -28,7 +28,8 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
-[ -x "$REFRAX" ] || { echo "scaling.sh: $REFRAX not found: build first (cmake --build build)" >&2; exit 2; }
+. bench/ensure-build.sh
+ensure_refrax scaling.sh "$REFRAX"
 
 if [ $full = 1 ]; then
   size=full; widths=(392 128 256 800); bench_opts=(--sh-degree 3 --runs 10 --warmup 3)

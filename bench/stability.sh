@@ -42,7 +42,8 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
-[ -x "$REFRAX" ] || { echo "stability.sh: $REFRAX not found: build first (cmake --build build)" >&2; exit 2; }
+. bench/ensure-build.sh
+ensure_refrax stability.sh "$REFRAX"
 
 preset=nerfrac-primary-sine
 if [ $full = 1 ]; then

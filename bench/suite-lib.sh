@@ -31,7 +31,8 @@ suite_parse_args() {  # suite name, then the script's arguments
     esac
     shift
   done
-  [ -x "$REFRAX" ] || { echo "$suite: $REFRAX not found: build first (cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build)" >&2; exit 2; }
+  . "$suite_root/bench/ensure-build.sh"
+  ensure_refrax "$suite" "$REFRAX"
   mkdir -p "$out"
   out=$(cd "$out" && pwd)
   if [ $keep_work = 1 ]; then
