@@ -229,6 +229,27 @@ TEST_CASE("train: the height encoding opens coarse to fine between the surface f
   CHECK(hf.config.encodingWindow == doctest::Approx((3.0 + 3.0 * 5.0 / 100.0) / 6.0).epsilon(1e-6));
 }
 
+TEST_CASE("train: --anchor-mean-height keeps the learned water's mean at the given height") {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  // A wavy initial field (init range 0.1) whose mean is off the water height (0), learning
+  // from step 0: with the anchor the saved grid's mean is the height, without it it is not.
+  std::string options = " --steps 6 --seed 1 --surface-freeze 0 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 "
+                        "--patch 16 --checkpoint-every 0";
+  auto meanHeight = [](const std::string& run) {
+    NpyArray h = readNpy(run + "/water_height.npy");
+    double sum = 0;
+    for (double v : h.data) sum += v;
+    return sum / double(h.data.size());
+  };
+  test::trainAndReadMetrics(data, dir / "anchored", options + " --anchor-mean-height");
+  test::trainAndReadMetrics(data, dir / "free", options);
+  MESSAGE("mean height anchored " << meanHeight(dir / "anchored") << ", free " << meanHeight(dir / "free"));
+  CHECK(std::abs(meanHeight(dir / "anchored")) < 1e-4);
+  CHECK(std::abs(meanHeight(dir / "free")) > 1e-3);
+  CHECK(trainConfigFromJson(readJson(dir / "anchored/config.json"), "config.json").anchorMeanHeight);
+}
+
 TEST_CASE("train: bad datasets give one clear error and leave no run folder") {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");

@@ -224,6 +224,7 @@ void loadCheckpoint(TrainSession& s, const std::string& path) {
   if (s.surface) {
     HeightSource src = currentHeightSource(s);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, src); });
+    if (s.step > s.config.schedule.surfaceFreeze) anchorMeanHeight(s);  // as the uninterrupted run left it
   }
 }
 

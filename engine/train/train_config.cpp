@@ -127,6 +127,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["mlp_hidden_layers"] = c.mlpHiddenLayers;
   j["mlp_octaves"] = c.mlpOctaves;
   j["mlp_coarse_octaves"] = c.mlpCoarseOctaves;
+  j["anchor_mean_height"] = c.anchorMeanHeight;
   j["mlp_init_range"] = c.mlpInitRange;
   j["surface_lr"] = c.surfaceLearningRate;
   j["grid_cells"] = c.gridCells;
@@ -190,7 +191,8 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.mlpWidth = j.at("mlp_width").get<uint32_t>();
     c.mlpHiddenLayers = j.at("mlp_hidden_layers").get<uint32_t>();
     c.mlpOctaves = j.at("mlp_octaves").get<uint32_t>();
-    c.mlpCoarseOctaves = j.value("mlp_coarse_octaves", c.mlpOctaves);  // runs written before the option: every octave open
+    c.mlpCoarseOctaves = j.value("mlp_coarse_octaves", c.mlpOctaves);
+    c.anchorMeanHeight = j.value("anchor_mean_height", false);  // runs written before the option: every octave open
     c.mlpInitRange = j.at("mlp_init_range").get<double>();
     c.surfaceLearningRate = j.value("surface_lr", 5e-4);  // runs written before the option: the reference
     c.gridCells = j.at("grid_cells").get<uint32_t>();

@@ -213,6 +213,31 @@ void planeAdamStep(TrainSession& s, double grad) {
   s.plane.waves.base = float(s.planeHeight);
 }
 
+}  // namespace
+
+void anchorMeanHeight(TrainSession& s) {
+  if (!s.config.anchorMeanHeight || !s.height || !s.surface) return;
+  WaterSurface& ws = *s.surface;
+  std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
+  uint32_t rowLength = ws.cellsX + 3;
+  double sum = 0;
+  uint32_t n = 0;
+  for (uint32_t j = 1; j <= ws.cellsY + 1; j++)  // interior vertices: the border ring only shapes normals
+    for (uint32_t i = 1; i <= ws.cellsX + 1; i++) {
+      float h = heights[size_t(j) * rowLength + i];
+      if (std::isfinite(h)) {
+        sum += h;
+        n++;
+      }
+    }
+  if (n == 0) return;
+  double shift = s.config.waterHeight - sum / double(n);
+  s.height->config.initialHeight = float(double(s.height->config.initialHeight) + shift);
+  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, *s.height); });
+}
+
+namespace {
+
 void applyDensitySchedule(TrainSession& s, int t) {
   const ScheduleSteps& k = s.config.schedule;
   size_t n = s.gaussians.count();
@@ -332,6 +357,7 @@ StepResult trainStep(TrainSession& s) {
       cmdBackwardSurface(cb, *s.surface, source, s.rays, s.records, s.rayGrads, n);
     }
   });
+  if (surfaceLearns) anchorMeanHeight(s);
   mark("backward");
   StepResult r;
   if (refract) r.missed = s.surface->lastCounters.missed;

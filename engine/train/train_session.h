@@ -111,5 +111,9 @@ void ensureRayCapacity(TrainSession& session, uint32_t rays);
 
 // The height source the surface is lifted from (MLP or plane).
 HeightSource currentHeightSource(const TrainSession& session);
+// With config.anchorMeanHeight: sets the height field's constant so that the mean height of
+// the coarse grid's interior vertices is config.waterHeight, and lifts the surface again.
+// A function of the weights alone, so a resumed run recomputes the same constant.
+void anchorMeanHeight(TrainSession& session);
 
 }  // namespace refrax
