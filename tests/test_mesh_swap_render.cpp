@@ -46,70 +46,78 @@ SurfaceMesh swapMeshOver(std::mt19937& rng, const Rect& domain, double z0, doubl
 // compared with the mesh reference. Pixels whose mesh hit is ambiguous (near an edge) or
 // whose trace sits near a threshold (TraceResultD::margin) are skipped and counted.
 GPU_TEST_CASE("mesh swap render: a view through a swapped-in mesh matches the CPU references end to end") {
-  std::string data = test::tinyDataset("nerfrac-primary-sine");
-  TrainConfig c;
-  c.dataset = data;
-  c.initialGaussians = 400;
-  c.initialDensity = 0.5;
-  c.seed = rng();
-  Dataset d = loadDataset(data, c.datasetOptions);
-  resolveSceneConfig(c, d);
-  auto s = createTrainSession(ctx, c, d);
-  SurfaceMesh mesh = swapMeshOver(rng, c.domain, c.waterHeight, 0.05 * (c.domain.xMax - c.domain.xMin));
-  MeshSurface surface = createMeshSurface(ctx, mesh);
+  // Some random Gaussian sets put most pixels within 1e-4 of a tracer threshold (one seed in
+  // CI: 302 of 576), where float and double may rightly disagree; such a scene is redrawn (up
+  // to 3 times). Which pixels are comparable is decided by the double reference alone, so a
+  // redraw cannot hide a wrong render: every drawn scene is checked in full below.
+  for (int attempt = 0; attempt < 3; attempt++) {
+    std::string data = test::tinyDataset("nerfrac-primary-sine");
+    TrainConfig c;
+    c.dataset = data;
+    c.initialGaussians = 400;
+    c.initialDensity = 0.5;
+    c.seed = rng();
+    Dataset d = loadDataset(data, c.datasetOptions);
+    resolveSceneConfig(c, d);
+    auto s = createTrainSession(ctx, c, d);
+    SurfaceMesh mesh = swapMeshOver(rng, c.domain, c.waterHeight, 0.05 * (c.domain.xMax - c.domain.xMin));
+    MeshSurface surface = createMeshSurface(ctx, mesh);
 
-  const Camera& view = d.split("test")[0].camera;
-  Camera cam = view;  // the first test view at a small size
-  double scale = 24.0 / view.width;
-  cam.width = 24;
-  cam.height = std::max(1, int(std::lround(view.height * scale)));
-  cam.fx *= scale, cam.fy *= scale, cam.cx *= scale, cam.cy *= scale;
-  const uint32_t n = uint32_t(cam.width * cam.height);
-  fillBuffer(ctx, s->refracted, test::kMeshPoison);
-  fillBuffer(ctx, s->records, test::kMeshPoison);
-  RenderedView v = renderView(*s, cam, WaterView::Swap, SwapSurface{nullptr, &surface});
-  auto rays = downloadVector<GpuRay>(ctx, s->rays, n);
-  auto refracted = downloadVector<GpuRay>(ctx, s->refracted, n);
-  auto flags = downloadVector<uint32_t>(ctx, s->records, n);
+    const Camera& view = d.split("test")[0].camera;
+    Camera cam = view;  // the first test view at a small size
+    double scale = 24.0 / view.width;
+    cam.width = 24;
+    cam.height = std::max(1, int(std::lround(view.height * scale)));
+    cam.fx *= scale, cam.fy *= scale, cam.cx *= scale, cam.cy *= scale;
+    const uint32_t n = uint32_t(cam.width * cam.height);
+    fillBuffer(ctx, s->refracted, test::kMeshPoison);
+    fillBuffer(ctx, s->records, test::kMeshPoison);
+    RenderedView v = renderView(*s, cam, WaterView::Swap, SwapSurface{nullptr, &surface});
+    auto rays = downloadVector<GpuRay>(ctx, s->rays, n);
+    auto refracted = downloadVector<GpuRay>(ctx, s->refracted, n);
+    auto flags = downloadVector<uint32_t>(ctx, s->records, n);
 
-  ref::MeshRefractOptions mopt;
-  mopt.ior = c.ior;
-  std::vector<float> normals = meshUnitNormals(mesh);
-  ref::MeshRefractReport rep = ref::compareMeshRefraction(mesh, normals, rays, refracted, flags, mopt, 2e-6, 1e-5);  // as test_mesh_surface.cpp
-  INFO(rep.firstProblem);
-  CHECK(rep.mismatched == 0);
-  CHECK(rep.hits * 10 >= rep.rays * 9);  // the camera looks at the mesh
-  CHECK(v.missed == rep.misses);
-  CHECK(v.surfacePoints.size() == rep.hits);
+    ref::MeshRefractOptions mopt;
+    mopt.ior = c.ior;
+    std::vector<float> normals = meshUnitNormals(mesh);
+    ref::MeshRefractReport rep = ref::compareMeshRefraction(mesh, normals, rays, refracted, flags, mopt, 2e-6, 1e-5);  // as test_mesh_surface.cpp
+    INFO(rep.firstProblem);
+    CHECK(rep.mismatched == 0);
+    CHECK(rep.hits * 10 >= rep.rays * 9);  // the camera looks at the mesh
+    CHECK(v.missed == rep.misses);
+    CHECK(v.surfacePoints.size() == rep.hits);
 
-  ref::TraceOptionsD topt;
-  for (int ch = 0; ch < 3; ch++) topt.background[ch] = c.datasetOptions.background[ch];
-  topt.shDegree = shDegreeAt(s->config, std::max(1, s->step));
-  std::vector<double> params = ref::toDouble(s->gaussians);
-  size_t compared = 0, nearEdge = 0, nearThreshold = 0, covered = 0;
-  double worst = 0;
-  for (uint32_t i = 0; i < n; i++) {
-    ref::MeshRayRef r = ref::refractThroughMeshRef(mesh, normals, rays[i], mopt);
-    if (r.ambiguous()) {
-      nearEdge++;
-      continue;
+    ref::TraceOptionsD topt;
+    for (int ch = 0; ch < 3; ch++) topt.background[ch] = c.datasetOptions.background[ch];
+    topt.shDegree = shDegreeAt(s->config, std::max(1, s->step));
+    std::vector<double> params = ref::toDouble(s->gaussians);
+    size_t compared = 0, nearEdge = 0, nearThreshold = 0, covered = 0;
+    double worst = 0;
+    for (uint32_t i = 0; i < n; i++) {
+      ref::MeshRayRef r = ref::refractThroughMeshRef(mesh, normals, rays[i], mopt);
+      if (r.ambiguous()) {
+        nearEdge++;
+        continue;
+      }
+      ref::RayD rd{{r.origin.x, r.origin.y, r.origin.z}, {r.dir.x, r.dir.y, r.dir.z}, r.tmin, r.tmax};
+      ref::TraceResultD t = ref::traceRayRef(params, rd, topt);
+      if (t.margin < 1e-4) {
+        nearThreshold++;
+        continue;
+      }
+      compared++;
+      covered += t.hits > 0;
+      for (int ch = 0; ch < 3; ch++)
+        worst = std::max(worst, std::fabs(double(v.image.pixels[3 * i + ch]) - std::clamp(t.rgb[ch], 0.0, 1.0)));
     }
-    ref::RayD rd{{r.origin.x, r.origin.y, r.origin.z}, {r.dir.x, r.dir.y, r.dir.z}, r.tmin, r.tmax};
-    ref::TraceResultD t = ref::traceRayRef(params, rd, topt);
-    if (t.margin < 1e-4) {
-      nearThreshold++;
-      continue;
-    }
-    compared++;
-    covered += t.hits > 0;
-    for (int ch = 0; ch < 3; ch++)
-      worst = std::max(worst, std::fabs(double(v.image.pixels[3 * i + ch]) - std::clamp(t.rgb[ch], 0.0, 1.0)));
+    MESSAGE("pixels " << n << ": compared " << compared << " (" << covered << " through Gaussians), skipped " << nearEdge
+                      << " near a mesh edge and " << nearThreshold << " near a tracer threshold; worst colour difference " << worst);
+    CHECK(worst <= 1e-5);  // measured up to 3.8e-7 (lavapipe)
+    if (compared * 10 < size_t(n) * 7 && attempt < 2) continue;  // mostly near thresholds: redraw
+    CHECK(compared * 10 >= size_t(n) * 7);
+    CHECK(covered * 4 >= compared);
+    break;
   }
-  MESSAGE("pixels " << n << ": compared " << compared << " (" << covered << " through Gaussians), skipped " << nearEdge
-                    << " near a mesh edge and " << nearThreshold << " near a tracer threshold; worst colour difference " << worst);
-  CHECK(compared * 10 >= size_t(n) * 7);
-  CHECK(covered * 4 >= compared);
-  CHECK(worst <= 1e-5);  // measured up to 3.8e-7 (lavapipe)
 }
 
 // A look-at camera option straight above the middle of the run's water domain.
