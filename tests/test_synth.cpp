@@ -19,6 +19,7 @@
 #include "engine/synth/synth_dataset.h"
 #include "engine/synth/synth_presets.h"
 #include "tests/gpu_test.h"
+#include "tests/train_test_util.h"
 #include "tests/water_json_height.h"
 
 using namespace refrax;
@@ -27,15 +28,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("refrax-synth-test-" + std::to_string(test::freshSeed()) + "-" + std::to_string(std::rand()));
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
+// The project's temporary folder (tests/train_test_util.h), removed at scope exit.
+using TempDir = test::TrainTempDir;
 
 // A plane at z = -depth under flat water, black except for a small white square centred on
 // `marker`; the scene background is black too.

@@ -13,6 +13,7 @@
 #include "engine/io/json_io.h"
 #include "engine/synth/synth_presets.h"
 #include "tests/gpu_test.h"
+#include "tests/train_test_util.h"
 
 using namespace refrax;
 using namespace refrax::synth;
@@ -20,15 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("refrax-synth-sweep-test-" + std::to_string(test::freshSeed()) + "-" + std::to_string(std::rand()));
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
+// The project's temporary folder (tests/train_test_util.h), removed at scope exit.
+using TempDir = test::TrainTempDir;
 
 std::string textureDir() { return (fs::path(__FILE__).parent_path().parent_path() / "assets" / "textures").string(); }
 
