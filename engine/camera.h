@@ -15,6 +15,16 @@ struct Camera {
   glm::dvec3 right() const { return glm::dvec3(cameraToWorld[0]); }
   glm::dvec3 up() const { return glm::dvec3(cameraToWorld[1]); }
   glm::dvec3 back() const { return glm::dvec3(cameraToWorld[2]); }
+
+  // Whether the straight ray from the camera to world point p passes through the image (the
+  // inverse of pinholeDirection: u = cx + fx x/depth, v = cy - fy y/depth, in front only).
+  bool sees(const glm::dvec3& p) const {
+    glm::dvec3 d = p - position();
+    double depth = -glm::dot(d, back());
+    if (!(depth > 0)) return false;
+    double u = cx + fx * glm::dot(d, right()) / depth, v = cy - fy * glm::dot(d, up()) / depth;
+    return u >= 0 && u <= width && v >= 0 && v <= height;
+  }
 };
 
 }  // namespace refrax

@@ -229,24 +229,48 @@ TEST_CASE("train: the height encoding opens coarse to fine between the surface f
   CHECK(hf.config.encodingWindow == doctest::Approx((3.0 + 3.0 * 5.0 / 100.0) / 6.0).epsilon(1e-6));
 }
 
-TEST_CASE("train: --anchor-mean-height keeps the learned water's mean at the given height") {
+TEST_CASE("train: --anchor-mean-height keeps the mean height the training views see at the given height") {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   // A wavy initial field (init range 0.1) whose mean is off the water height (0), learning
-  // from step 0: with the anchor the saved grid's mean is the height, without it it is not.
+  // from step 0: with the anchor the mean of the saved grid, each vertex weighted by the
+  // training views that see it, is the height; without it it is not, and the unweighted mean
+  // (corners one view sees included at full weight) is not either.
   std::string options = " --steps 6 --seed 1 --surface-freeze 0 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 "
                         "--patch 16 --checkpoint-every 0";
-  auto meanHeight = [](const std::string& run) {
-    NpyArray h = readNpy(run + "/water_height.npy");
-    double sum = 0;
-    for (double v : h.data) sum += v;
-    return sum / double(h.data.size());
-  };
   test::trainAndReadMetrics(data, dir / "anchored", options + " --anchor-mean-height");
   test::trainAndReadMetrics(data, dir / "free", options);
-  MESSAGE("mean height anchored " << meanHeight(dir / "anchored") << ", free " << meanHeight(dir / "free"));
-  CHECK(std::abs(meanHeight(dir / "anchored")) < 1e-4);
-  CHECK(std::abs(meanHeight(dir / "free")) > 1e-3);
+  Dataset d = loadDataset(data);
+  nlohmann::json m = readJson(dir / "anchored/metrics.json");
+  const double x0 = m["water_height_domain"][0], y0 = m["water_height_domain"][1], x1 = m["water_height_domain"][2],
+               y1 = m["water_height_domain"][3];
+  NpyArray grid = readNpy(dir / "anchored/water_height.npy");
+  const size_t n = grid.shape.at(0);
+  std::vector<double> weights(n * n, 0.0);
+  for (size_t j = 0; j < n; j++)
+    for (size_t i = 0; i < n; i++) {
+      glm::dvec3 p(x0 + (x1 - x0) * double(i) / double(n - 1), y0 + (y1 - y0) * double(j) / double(n - 1), 0.0);
+      for (const View& v : d.split("train")) weights[j * n + i] += v.camera.sees(p) ? 1.0 : 0.0;
+    }
+  auto means = [&](const std::string& run) {
+    NpyArray h = readNpy(run + "/water_height.npy");
+    double weighted = 0, weight = 0, plain = 0;
+    for (size_t k = 0; k < h.data.size(); k++) {
+      weighted += weights[k] * h.data[k];
+      weight += weights[k];
+      plain += h.data[k];
+    }
+    return std::make_pair(weighted / weight, plain / double(h.data.size()));
+  };
+  auto [anchoredSeen, anchoredAll] = means(dir / "anchored");
+  auto [freeSeen, freeAll] = means(dir / "free");
+  MESSAGE("seen-weighted mean height anchored " << anchoredSeen << " (unweighted " << anchoredAll << "), free " << freeSeen);
+  double most = *std::max_element(weights.begin(), weights.end()), least = *std::min_element(weights.begin(), weights.end());
+  CHECK(most == double(d.split("train").size()));  // the centre: every view
+  CHECK(least < most / 2);
+  CHECK(std::abs(anchoredSeen) < 1e-4);
+  CHECK(std::abs(anchoredAll) > 1e-3);
+  CHECK(std::abs(freeSeen) > 1e-3);
   CHECK(trainConfigFromJson(readJson(dir / "anchored/config.json"), "config.json").anchorMeanHeight);
 }
 

@@ -164,7 +164,7 @@ std::vector<cli::Option> trainOptions() {
       {"density-loss", "X", "weight of the density loss X mean(density^2) over all Gaussians (0: off, the paper's ablation)", "0.007"},
       {"surface-freeze", "N", "surface frozen for the first N steps", "1000 x steps/15000"},
       {"face-normals-until", "N", "flat face normals until step N, then interpolated", "7500 x steps/15000"},
-      {"anchor-mean-height", "", "keep the learned water's mean height over the domain at the given water height (straight-down views barely see a uniform shift)", ""},
+      {"anchor-mean-height", "", "keep the learned water's mean height (each vertex weighted by the training views that see it) at the given water height: straight-down views barely see a uniform shift", ""},
       {"octaves-open-until", "N", "every encoding octave open from step N (the window opens linearly from --surface-freeze)", "7500 x steps/15000"},
       {"sh-interval", "N", "SH degree +1 every N steps", "1000 x steps/15000"},
       {"density-reset-every", "N", "density reset to <= 0.01 every N steps (part of densification: only when it runs)", "max(1000, 3000 x steps/15000)"},

@@ -213,25 +213,37 @@ void planeAdamStep(TrainSession& s, double grad) {
   s.plane.waves.base = float(s.planeHeight);
 }
 
+// Per coarse grid slot ((cellsX + 3) x (cellsY + 3), border ring included at weight 0): how
+// many training views see the interior vertex at the flat water height.
+std::vector<double> trainingViewWeights(const TrainSession& s) {
+  const WaterSurface& ws = *s.surface;
+  const Rect& d = s.config.domain;
+  const uint32_t rowLength = ws.cellsX + 3;
+  std::vector<double> w(ws.gridPointCount, 0.0);
+  for (uint32_t j = 0; j <= ws.cellsY; j++)
+    for (uint32_t i = 0; i <= ws.cellsX; i++) {
+      glm::dvec3 p(d.xMin + (d.xMax - d.xMin) * i / ws.cellsX, d.yMin + (d.yMax - d.yMin) * j / ws.cellsY, s.config.waterHeight);
+      for (const View& v : s.dataset.split("train"))
+        if (v.camera.sees(p)) w[size_t(j + 1) * rowLength + i + 1] += 1.0;
+    }
+  return w;
+}
+
 }  // namespace
 
 void anchorMeanHeight(TrainSession& s) {
   if (!s.config.anchorMeanHeight || !s.height || !s.surface) return;
   WaterSurface& ws = *s.surface;
+  if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = trainingViewWeights(s);
   std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
-  uint32_t rowLength = ws.cellsX + 3;
-  double sum = 0;
-  uint32_t n = 0;
-  for (uint32_t j = 1; j <= ws.cellsY + 1; j++)  // interior vertices: the border ring only shapes normals
-    for (uint32_t i = 1; i <= ws.cellsX + 1; i++) {
-      float h = heights[size_t(j) * rowLength + i];
-      if (std::isfinite(h)) {
-        sum += h;
-        n++;
-      }
+  double sum = 0, weight = 0;
+  for (size_t k = 0; k < heights.size(); k++)
+    if (s.anchorWeights[k] > 0 && std::isfinite(heights[k])) {
+      sum += s.anchorWeights[k] * heights[k];
+      weight += s.anchorWeights[k];
     }
-  if (n == 0) return;
-  double shift = s.config.waterHeight - sum / double(n);
+  if (weight == 0) return;
+  double shift = s.config.waterHeight - sum / weight;
   s.height->config.initialHeight = float(double(s.height->config.initialHeight) + shift);
   submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, *s.height); });
 }

@@ -79,6 +79,9 @@ struct TrainSession {
   // Densification (engine/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
   // accumulated since the last clone/split, and the schedule derived from config.schedule.
   std::vector<float> densifyStats;
+  // --anchor-mean-height: each coarse grid slot's weight in the anchored mean (computed on
+  // first use from the training cameras; see anchorMeanHeight).
+  std::vector<double> anchorWeights;
   DensifyConfig densifyConfig;
   DensifyStats lastDensify;
 
@@ -111,8 +114,12 @@ void ensureRayCapacity(TrainSession& session, uint32_t rays);
 
 // The height source the surface is lifted from (MLP or plane).
 HeightSource currentHeightSource(const TrainSession& session);
-// With config.anchorMeanHeight: sets the height field's constant so that the mean height of
-// the coarse grid's interior vertices is config.waterHeight, and lifts the surface again.
+// With config.anchorMeanHeight: sets the height field's constant so that the mean height the
+// training views see is config.waterHeight, and lifts the surface again. The mean is over the
+// coarse grid's interior vertices, each weighted by how many training views see it (on the
+// flat plane): water every view sees counts most, a corner one camera sees counts little,
+// unseen water not at all (an unweighted mean let the border carry the shift the seen centre
+// needed: on the strong-wave tiny preset the centre sat 2-6 cm low).
 // A function of the weights alone, so a resumed run recomputes the same constant.
 void anchorMeanHeight(TrainSession& session);
 
