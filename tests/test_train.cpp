@@ -71,13 +71,55 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
   CHECK(heights.shape == std::vector<size_t>{65, 65});
 }
 
+// Strong refraction (IOR 1.33, the preset's sine at twice its amplitude: 0.05 m, slope 0.63)
+// at 96 px, where straight rays cannot fake the water: measured with the water known (oracle)
+// 21.5 dB against 15.6 dB for --no-refraction after 3,000 steps of 32 x 32 patches. The joint run uses what short
+// runs need (see --help): three octaves, a faster surface, the anchored mean height.
+const char* kStrongWaveSynth = "--width 96 --ior 1.33 --wave-amplitude 2";
+const char* kStrongWaveOptions =
+    " --steps 3000 --patch 64 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0 --progress-every 500 "
+    "--checkpoint-every 0";
+const char* kStrongWaveJoint = " --mlp-coarse-octaves 3 --octaves-open-until 10000000 --surface-lr 3e-3 --surface-freeze 400 --anchor-mean-height";
+
+struct StrongWaveComparison {
+  TrainTempDir dir;
+  nlohmann::json refraction, plain;
+};
+const StrongWaveComparison& strongWaveComparison() {
+  static StrongWaveComparison c = [] {
+    StrongWaveComparison t;
+    std::string data = test::tinyDataset("nerfrac-primary-sine", kStrongWaveSynth);
+    t.refraction = test::trainAndReadMetrics(data, t.dir / "refraction", std::string(kStrongWaveOptions) + kStrongWaveJoint);
+    t.plain = test::trainAndReadMetrics(data, t.dir / "plain", std::string(kStrongWaveOptions) + " --no-refraction");
+    MESSAGE("strong wave: refraction psnr " << t.refraction["psnr"] << " surface rmse " << t.refraction["surface_rmse"] << " (flat "
+                                            << t.refraction["initial_flat_surface_rmse"] << "); no-refraction psnr " << t.plain["psnr"]);
+    return t;
+  }();
+  return c;
+}
+
+// Measured (lavapipe, 3,000 steps of 64 x 64 patches, against --no-refraction with the same
+// seed): +3.02 dB (18.97 vs 15.95) with these settings, seed 1; +2.77 and +2.03 dB with
+// --surface-freeze 200, seeds 1 and 2. Surface RMSE 0.0198-0.0221 against 0.0332 for the flat
+// plane (0.60-0.66x). The bars leave about half the smallest measured margin.
+TEST_CASE("train: with strong refraction the joint model beats straight rays and moves the surface toward the truth" *
+          doctest::test_suite("long")) {
+  const StrongWaveComparison& c = strongWaveComparison();
+  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 1.0);
+  CHECK(c.refraction["surface_rmse"].get<double>() <= 0.8 * c.refraction["initial_flat_surface_rmse"].get<double>());
+  CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
+}
+
 // The paper's claim at CI size: refraction beats straight rays by 3 dB and recovers the
-// surface to half the flat plane's error. NOT MET yet (measured +0.09 dB, surface 0.0180 vs
-// 0.0173 flat at 300 steps): this is the acceptance test of the open training issue, skipped
-// in CI until it passes. Run it with: refrax_tests -tc="train: refraction beats*" --no-skip
+// surface to half the flat plane's error. NOT MET yet, so skipped until it passes: on the
+// strong-wave data above the gap is +2.0 to +3.0 dB (the known water gives +5.9 dB at 32 x 32
+// patches) and the surface RMSE 0.60-0.66x the flat plane's: the learned wave has the right
+// phase but about 60% of the true amplitude, and a bowl-and-tilt error of about 1 cm RMS in
+// the seen centre (the low-order shape trades against the Gaussians' depth). Run it with:
+//   refrax_tests -tc="train: refraction beats*" --no-skip
 TEST_CASE("train: refraction beats straight rays by 3 dB and halves the flat surface error on a tiny NeRFrac-like run" *
-          doctest::skip()) {
-  const TinyComparison& c = tinyComparison();
+          doctest::test_suite("long") * doctest::skip()) {
+  const StrongWaveComparison& c = strongWaveComparison();
   CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 3.0);
   CHECK(c.refraction["surface_rmse"].get<double>() * 2.0 <= c.refraction["initial_flat_surface_rmse"].get<double>());
 }

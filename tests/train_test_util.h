@@ -24,16 +24,18 @@ struct TrainTempDir {
   std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
 
-// The tiny preset's dataset folder (generated on first use; removed at process exit).
-inline std::string tinyDataset(const std::string& preset) {
+// The tiny preset's dataset folder, with extra `refrax synth` options (generated on first
+// use; removed at process exit).
+inline std::string tinyDataset(const std::string& preset, const std::string& options = "") {
   static TrainTempDir root;
   static std::map<std::string, std::string> made;
-  auto it = made.find(preset);
+  const std::string key = preset + options;
+  auto it = made.find(key);
   if (it != made.end()) return it->second;
-  std::string dir = root / preset;
-  CliResult r = runCli("synth " + preset + " --size tiny -o " + dir);
+  std::string dir = root / (preset + "-" + std::to_string(made.size()));
+  CliResult r = runCli("synth " + preset + " --size tiny " + options + " -o " + dir);
   REQUIRE_MESSAGE(r.exitCode == 0, r.output);
-  return made[preset] = dir;
+  return made[key] = dir;
 }
 
 inline nlohmann::json trainAndReadMetrics(const std::string& dataset, const std::string& run, const std::string& options) {
