@@ -19,7 +19,9 @@ struct TracePush {
   uint32_t count, shDegree, maxRounds;
   float minTransmittance;  // forward only (the backward's slot is padding)
   float statViewpoint[4];  // backward only
+  uint32_t recordsPerRay, pad[3];
 };
+static_assert(sizeof(TracePush) == 64, "TracePush must match REFRAX_TRACE_PUSH (gaussian_trace_types.glsl)");
 struct PreparePush {
   uint32_t count, instanced;
   uint32_t blasAddress[2];
@@ -35,7 +37,8 @@ std::vector<SpecConstant> traceSpec(uint32_t K, ProxyKind kind) { return {{0, K}
 const ComputePipeline& forwardPipeline(GaussianTracer& t, ProxyKind kind) {
   ComputePipeline& p = t.forward[uint32_t(kind)];
   if (!p.pipeline)
-    p = createComputePipeline(*t.ctx, "gaussian_forward", {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+    p = createComputePipeline(*t.ctx, "gaussian_forward",
+                              {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                               sizeof(TracePush), traceSpec(t.K, kind));
   return p;
 }
@@ -45,7 +48,7 @@ const ComputePipeline& backwardPipeline(GaussianTracer& t, ProxyKind kind) {
   if (!p.pipeline)
     p = createComputePipeline(*t.ctx, t.casAtomics ? "gaussian_backward_cas" : "gaussian_backward",
                               {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
-                               kStorageBuffer, kStorageBuffer},
+                               kStorageBuffer, kStorageBuffer, kStorageBuffer},
                               sizeof(TracePush), traceSpec(t.K, kind));
   return p;
 }
@@ -89,6 +92,10 @@ void validateRays(const std::vector<GpuRay>& rays) {
 
 TracePush tracePush(uint32_t count, const TraceOptions& o) {
   TracePush push{};
+  if (o.hitRecords) {
+    if (o.hitRecords->perRay == 0 || o.hitRecords->rays < count) fail("hit records hold fewer rays than the trace");
+    push.recordsPerRay = o.hitRecords->perRay;
+  }
   for (int c = 0; c < 3; c++) push.background[c] = o.background[c];
   push.count = count;
   push.shDegree = o.shDegree;
@@ -120,7 +127,17 @@ GaussianTracer createGaussianTracer(Context& ctx, uint32_t K, bool casAtomics) {
   t.ctx = &ctx;
   t.K = K;
   t.casAtomics = casAtomics || !ctx.caps.floatAtomicAdd;
+  t.noHitRecords = createBuffer(ctx, 16);
   return t;
+}
+
+HitRecords createHitRecords(Context& ctx, uint32_t rays, uint32_t perRay) {
+  if (rays == 0 || perRay == 0) fail("hit records need at least one ray and one record per ray");
+  HitRecords r;
+  r.rays = rays;
+  r.perRay = perRay;
+  r.buffer = createBuffer(ctx, VkDeviceSize(rays) * perRay * 8);
+  return r;
 }
 
 GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, const GaussianSet& host,
@@ -185,8 +202,10 @@ void updateGaussianProxies(Context& ctx, GaussianTracer& tracer, GaussianProxies
 void cmdTraceForward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const DeviceGaussians& gaussians,
                      const Buffer& rays, const Buffer& results, uint32_t count, const TraceOptions& options) {
   TracePush push = tracePush(count, options);
+  const Buffer& records = options.hitRecords ? options.hitRecords->buffer : tracer.noHitRecords;
   cmdDispatch(cb, forwardPipeline(tracer, proxies.kind),
-              {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results)}, &push, groupsFor(count, 64));
+              {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results), bind(records)}, &push,
+              groupsFor(count, 64));
 }
 
 void cmdTraceBackward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const DeviceGaussians& gaussians,
@@ -195,9 +214,10 @@ void cmdTraceBackward(VkCommandBuffer cb, GaussianTracer& tracer, const Gaussian
   if (options.minTransmittance != TraceOptions{}.minTransmittance)
     fail("the Gaussian backward stops at the default minimum transmittance only");
   TracePush push = tracePush(count, options);
+  const Buffer& records = options.hitRecords ? options.hitRecords->buffer : tracer.noHitRecords;
   cmdDispatch(cb, backwardPipeline(tracer, proxies.kind),
               {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results), bind(dLoss), bind(grads),
-               bind(stats), bind(rayGrads)},
+               bind(stats), bind(rayGrads), bind(records)},
               &push, groupsFor(count, 64));
 }
 
@@ -215,8 +235,9 @@ std::vector<GpuTraceResult> traceGaussians(Context& ctx, GaussianTracer& tracer,
 GaussianGradients traceGaussiansBackward(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
                                          const DeviceGaussians& gaussians, const std::vector<GpuRay>& rays,
                                          const std::vector<GpuTraceResult>& forward, const std::vector<float>& dLoss,
-                                         const TraceOptions& options) {
+                                         const TraceOptions& options, uint32_t hitRecordsPerRay) {
   if (forward.size() != rays.size() || dLoss.size() != 4 * rays.size()) fail("traceGaussiansBackward: per-ray inputs of different sizes");
+  if (hitRecordsPerRay > 0 && options.hitRecords) fail("traceGaussiansBackward: hit records given twice");
   for (float v : dLoss)
     if (!std::isfinite(v)) fail("traceGaussiansBackward: non-finite loss gradient");
   GaussianGradients out;
@@ -231,8 +252,18 @@ GaussianGradients traceGaussiansBackward(Context& ctx, GaussianTracer& tracer, c
   fillBuffer(ctx, gradBuf, 0);
   fillBuffer(ctx, statBuf, 0);
   fillBuffer(ctx, rayGradBuf, 0x7FC00000u);
+  const uint32_t count = uint32_t(rays.size());
+  TraceOptions opt = options;
+  HitRecords records;
+  if (hitRecordsPerRay > 0) {
+    records = createHitRecords(ctx, count, hitRecordsPerRay);
+    fillBuffer(ctx, records.buffer, 0x7FC00000u);
+    opt.hitRecords = &records;
+    Buffer recordedResults = createBuffer(ctx, rays.size() * sizeof(GpuTraceResult));
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, tracer, proxies, gaussians, rayBuf, recordedResults, count, opt); });
+  }
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    cmdTraceBackward(cb, tracer, proxies, gaussians, rayBuf, fwdBuf, lossBuf, gradBuf, statBuf, rayGradBuf, uint32_t(rays.size()), options);
+    cmdTraceBackward(cb, tracer, proxies, gaussians, rayBuf, fwdBuf, lossBuf, gradBuf, statBuf, rayGradBuf, count, opt);
   });
   out.params = downloadVector<float>(ctx, gradBuf, size_t(gaussians.count) * kGaussianFloats);
   out.stats = downloadVector<float>(ctx, statBuf, size_t(gaussians.count) * 2);

@@ -40,6 +40,19 @@ struct GpuTraceResult {
 };
 static_assert(sizeof(GpuTraceResult) == 32, "GpuTraceResult must match the std430 TraceResult");
 
+// Hit records: a training forward writes, per ray, the hits it blended in order (Gaussian
+// id and unclamped alpha, 8 bytes each; HitRecord in gaussian_trace_types.glsl), and the
+// backward reads them instead of traversing the BVH a second time. Rays that blended more
+// than `perRay` hits are re-traced by the backward. Valid until the Gaussians change.
+struct HitRecords {
+  Buffer buffer;  // perRay records for each of `rays` rays
+  uint32_t rays = 0, perRay = 0;
+};
+HitRecords createHitRecords(Context& ctx, uint32_t rays, uint32_t perRay);
+// Records per ray that training keeps by default: trained scenes blend 10-26 hits per ray
+// on average (`refrax bench tracer-scene`), and a ray with more is re-traced, not wrong.
+constexpr uint32_t kDefaultHitRecordsPerRay = 32;
+
 struct TraceOptions {
   float background[3] = {0, 0, 0};
   uint32_t shDegree = 3;
@@ -53,6 +66,9 @@ struct TraceOptions {
   // the camera position here and distances run from it to the ray's origin, then along the
   // ray. Unset: from the ray's origin.
   std::optional<glm::vec3> statisticsViewpoint;
+  // Forward: write them; backward: read them (the same records, from the forward that
+  // produced the `results` it is given). Unset: the backward re-traces every ray.
+  const HitRecords* hitRecords = nullptr;
 };
 
 // The default k-buffer size. The output does not depend on K (hits are blended in the same
@@ -71,6 +87,7 @@ struct GaussianTracer {
   ComputePipeline prepare;
   ComputePipeline forward[2];
   ComputePipeline backward[2];
+  Buffer noHitRecords;  // bound where no hit records are written or read
 };
 // K: k-buffer size (specialization constant). casAtomics: force the fallback even where
 // float atomics exist (tests use it to cover both paths).
@@ -126,9 +143,11 @@ struct GaussianGradients {
   std::vector<GpuRayGrad> rays;  // per ray
 };
 // dLoss: 4 floats per ray (dL/dR, dL/dG, dL/dB, dL/dopacity); `forward` from traceGaussians.
+// hitRecordsPerRay > 0: a recording forward runs first, as in training, and the backward
+// reads its hit records (options.hitRecords must be unset).
 GaussianGradients traceGaussiansBackward(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
                                          const DeviceGaussians& gaussians, const std::vector<GpuRay>& rays,
                                          const std::vector<GpuTraceResult>& forward, const std::vector<float>& dLoss,
-                                         const TraceOptions& options = {});
+                                         const TraceOptions& options = {}, uint32_t hitRecordsPerRay = 0);
 
 }  // namespace refrax

@@ -1,8 +1,10 @@
 #version 460
 // Gaussian ray tracer, forward (3DGRT k-buffer, DESIGN 1.4): per ray, blend the accepted
 // Gaussian hits front to back in (t, id) order, K at a time, until the transmittance drops
-// below the minimum transmittance (push constant; kMinTransmittance by default) or nothing is left; colour from SH along the ray direction
-// (+0.5, clamped at 0), then the background with the remaining transmittance.
+// below the minimum transmittance (push constant; kMinTransmittance by default) or nothing
+// is left; colour from SH along the ray direction (+0.5, clamped at 0), then the background
+// with the remaining transmittance. A training forward also records the blended hits for
+// the backward (HitRecord).
 #extension GL_EXT_ray_query : require
 #extension GL_GOOGLE_include_directive : require
 #include "rays.glsl"
@@ -15,13 +17,9 @@ layout(std430, set = 0, binding = 1) restrict readonly buffer Trace { TraceGauss
 layout(std430, set = 0, binding = 2) restrict readonly buffer Params { float params[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Rays { Ray rays[]; };
 layout(std430, set = 0, binding = 4) writeonly buffer Results { TraceResult results[]; };
-layout(push_constant) uniform Push {
-  vec4 background;
-  uint count;
-  uint shDegree;
-  uint maxRounds;
-  float minTransmittance;  // TraceOptions::minTransmittance (kMinTransmittance by default)
-} pc;
+// written only for the first pc.recordsPerRay hits of each ray (see HitRecord)
+layout(std430, set = 0, binding = 5) writeonly buffer HitRecords { HitRecord hitRecords[]; };
+REFRAX_TRACE_PUSH
 #include "gaussian_kbuffer.glsl"
 
 void main() {
@@ -46,6 +44,7 @@ void main() {
       rgb += (T * alpha) * c;
       depth += T * alpha * kt[k];
       T *= 1.0 - alpha;
+      if (hits < pc.recordsPerRay) hitRecords[i * pc.recordsPerRay + hits] = HitRecord(kid[k], floatBitsToUint(ka[k]));
       hits++;
       if (T < pc.minTransmittance) break;
     }

@@ -138,6 +138,9 @@ TEST_CASE("Gaussian tracer reference: analytic gradient matches central differen
 
 namespace {
 
+void checkGradients(const GaussianSet& set, const GaussianGradients& gpu, const std::vector<double>& want, const std::vector<double>& stats,
+                    const std::vector<ref::RayGradD>& wantRays, ProxyKind kind, bool cas, bool viewpoint);
+
 void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind kind, bool cas, bool viewpoint) {
   GaussianSet set = randomGaussians(rng, 1000, testGaussianOptions());
   std::vector<double> params = ref::toDouble(set);
@@ -157,7 +160,6 @@ void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind ki
   REQUIRE(tracer.casAtomics == (cas || !ctx.caps.floatAtomicAdd));
   GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, kind);
   auto fwd = traceGaussians(ctx, tracer, proxies, dev, rays, opt);
-  GaussianGradients gpu = traceGaussiansBackward(ctx, tracer, proxies, dev, rays, fwd, dLoss, opt);
 
   std::vector<double> want(params.size(), 0.0), stats(2 * set.count(), 0.0);
   std::vector<ref::RayGradD> wantRays;
@@ -165,6 +167,24 @@ void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind ki
     double dl[4] = {dLoss[4 * i], dLoss[4 * i + 1], dLoss[4 * i + 2], dLoss[4 * i + 3]};
     wantRays.push_back(ref::traceRayBackwardRef(params, ref::toRayD(rays[i]), dl, want, optD, &stats));
   }
+  // The backward re-tracing every ray, reading hit records that hold every ray's hits, and
+  // reading records that hold only some rays' hits (the others re-traced).
+  std::vector<uint32_t> hits;
+  for (const GpuTraceResult& r : fwd) hits.push_back(r.hits);
+  std::sort(hits.begin(), hits.end());
+  const uint32_t median = hits[hits.size() / 2], most = hits.back();
+  REQUIRE(median >= 2);
+  REQUIRE(median < most);  // some rays fit `median` records, some do not
+  for (uint32_t perRay : {0u, most, median}) {
+    INFO("hit records per ray: " << perRay << " (0: re-traced; most hits on a ray " << most << ")");
+    GaussianGradients gpu = traceGaussiansBackward(ctx, tracer, proxies, dev, rays, fwd, dLoss, opt, perRay);
+    checkGradients(set, gpu, want, stats, wantRays, kind, cas, viewpoint);
+  }
+}
+
+void checkGradients(const GaussianSet& set, const GaussianGradients& gpu, const std::vector<double>& want, const std::vector<double>& stats,
+                    const std::vector<ref::RayGradD>& wantRays, ProxyKind kind, bool cas, bool viewpoint) {
+  const size_t nrays = wantRays.size();
   size_t nan = 0;
   for (float v : gpu.params) nan += std::isnan(v);
   for (auto& r : gpu.rays)
@@ -178,7 +198,7 @@ void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind ki
     CHECK(e.rel() <= 1e-3);
   }
   GroupError eo, ed;
-  for (size_t i = 0; i < rays.size(); i++)
+  for (size_t i = 0; i < nrays; i++)
     for (int a = 0; a < 3; a++) {
       eo.worstDiff = std::max(eo.worstDiff, std::fabs(double(gpu.rays[i].dOrigin[a]) - wantRays[i].dOrigin[a]));
       eo.largest = std::max(eo.largest, std::fabs(wantRays[i].dOrigin[a]));

@@ -49,6 +49,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.initialDensity = a.getDouble("initial-density", 0.1);
   c.maxShDegree = positiveCount(a, "sh-degree", 3, 0, 3);
   c.kBuffer = positiveCount(a, "k-buffer", kDefaultKBuffer, 1, 64);
+  c.hitRecordsPerRay = positiveCount(a, "hit-records", kDefaultHitRecordsPerRay, 0, 1024);
   c.proxy = a.get("proxy", "auto");
   c.mlpWidth = positiveCount(a, "mlp-width", 64, 1, 256);
   c.mlpHiddenLayers = positiveCount(a, "mlp-layers", 3, 1, 8);
@@ -149,6 +150,8 @@ std::vector<cli::Option> trainOptions() {
       {"initial-density", "X", "initial Gaussian density", "0.1"},
       {"sh-degree", "D", "highest SH degree (reached one degree per --sh-interval steps)", "3"},
       {"k-buffer", "K", "tracer k-buffer size", std::to_string(kDefaultKBuffer)},
+      {"hit-records", "N", "hits per ray the forward records so the backward need not re-trace (8 bytes each; 0: re-trace)",
+       std::to_string(kDefaultHitRecordsPerRay)},
       {"proxy", "KIND", "Gaussian proxies: aabb, instanced or auto", "auto"},
       {"mlp-width", "W", "height-field MLP width", "64"},
       {"mlp-layers", "L", "height-field MLP hidden layers", "3"},

@@ -75,6 +75,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.initialDensity > 0 && c.initialDensity < 1, "--initial-density must be in (0, 1)");
   need(c.maxShDegree <= 3, "--sh-degree must be 0..3");
   need(c.kBuffer >= 1 && c.kBuffer <= 64, "--k-buffer must be 1..64");
+  need(c.hitRecordsPerRay <= 1024, "--hit-records must be 0..1024");
   need(c.mlpWidth >= 1 && c.mlpHiddenLayers >= 1 && c.mlpOctaves <= 16, "height field sizes (--mlp-width, --mlp-layers >= 1, --mlp-octaves <= 16)");
   need(std::isfinite(c.mlpInitRange) && c.mlpInitRange >= 0, "--mlp-init-range must be >= 0");
   need(std::isfinite(c.surfaceLearningRate) && c.surfaceLearningRate > 0 && c.surfaceLearningRate < 1, "--surface-lr must be in (0, 1)");
@@ -122,6 +123,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["initial_density"] = c.initialDensity;
   j["max_sh_degree"] = c.maxShDegree;
   j["k_buffer"] = c.kBuffer;
+  j["hit_records"] = c.hitRecordsPerRay;
   j["proxy"] = c.proxy;
   j["mlp_width"] = c.mlpWidth;
   j["mlp_hidden_layers"] = c.mlpHiddenLayers;
@@ -187,6 +189,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.initialDensity = j.at("initial_density").get<double>();
     c.maxShDegree = j.at("max_sh_degree").get<uint32_t>();
     c.kBuffer = j.at("k_buffer").get<uint32_t>();
+    c.hitRecordsPerRay = j.value("hit_records", kDefaultHitRecordsPerRay);  // runs written before the option: the default
     c.proxy = j.at("proxy").get<std::string>();
     c.mlpWidth = j.at("mlp_width").get<uint32_t>();
     c.mlpHiddenLayers = j.at("mlp_hidden_layers").get<uint32_t>();

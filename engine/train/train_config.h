@@ -56,6 +56,8 @@ struct TrainConfig {
   double initialDensity = 0.1;
   uint32_t maxShDegree = 3;
   uint32_t kBuffer = kDefaultKBuffer;
+  // Hits per ray the forward records for the backward (0: the backward re-traces every ray).
+  uint32_t hitRecordsPerRay = kDefaultHitRecordsPerRay;
   std::string proxy = "auto";
 
   // Height field and surface.

@@ -313,6 +313,11 @@ StepResult trainStep(TrainSession& s) {
   opt.shDegree = shDegreeAt(c, t);
   // Densification statistics from the camera, not from where refracted rays start (the water).
   opt.statisticsViewpoint = glm::vec3(cam.cameraToWorld[3]);
+  if (c.hitRecordsPerRay > 0) {
+    // sized by the rays of a step (a patch, not the largest image): 8 bytes per record
+    if (s.hitRecords.rays < n) s.hitRecords = createHitRecords(ctx, n, c.hitRecordsPerRay);
+    opt.hitRecords = &s.hitRecords;
+  }
 
   static bool timing = std::getenv("REFRAX_TRAIN_TIMING") != nullptr;
   auto mark = [&, last = std::chrono::steady_clock::now()](const char* what) mutable {

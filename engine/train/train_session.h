@@ -75,6 +75,7 @@ struct TrainSession {
   LossPipelines lossPipelines;
   ImageLossScratch lossScratch;
   Buffer pixels, rays, refracted, records, results, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
+  HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
 
   // Densification (engine/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
   // accumulated since the last clone/split, and the schedule derived from config.schedule.

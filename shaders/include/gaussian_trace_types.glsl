@@ -21,4 +21,21 @@ struct TraceResult {
   uint rounds;          // k-buffer rounds traced
 };
 
+// The hits a recording forward blended, in order, per ray (engine/gaussian_trace.h
+// HitRecords): x = Gaussian id, y = unclamped alpha (float bits). The backward reads them
+// instead of traversing the BVH again.
+#define HitRecord uvec2
+
+// Push constants of the forward and the backward (engine/gaussian_trace.cpp TracePush).
+#define REFRAX_TRACE_PUSH                                                                            \
+  layout(push_constant) uniform Push {                                                               \
+    vec4 background;                                                                                 \
+    uint count;                                                                                      \
+    uint shDegree;                                                                                   \
+    uint maxRounds;                                                                                  \
+    float minTransmittance; /* forward: TraceOptions::minTransmittance (backward: the default) */    \
+    vec4 statViewpoint;     /* backward, w = 1: statistics distances start here */                   \
+    uint recordsPerRay;     /* hit records per ray (0: none are written or read) */                  \
+  } pc;
+
 #endif
