@@ -28,6 +28,8 @@ struct PreparePush {
 };
 
 constexpr uint32_t kTraceGaussianBytes = 48;
+constexpr uint32_t kShPackedBytes = 12 * 16;  // kShVec4s vec4s (gaussian_trace_types.glsl)
+static_assert(kShPackedBytes == f32::kShCoefficients * 3 * sizeof(float), "the packed SH holds every coefficient");
 constexpr uint32_t kInstanceBytes = sizeof(VkAccelerationStructureInstanceKHR);
 static_assert(kInstanceBytes == 64, "instance layout written by gaussian_prepare.comp");
 static_assert(sizeof(Box) == 6 * sizeof(float), "gaussianProxyBox writes a Box as six floats");
@@ -48,14 +50,15 @@ const ComputePipeline& backwardPipeline(GaussianTracer& t, ProxyKind kind) {
   if (!p.pipeline)
     p = createComputePipeline(*t.ctx, t.casAtomics ? "gaussian_backward_cas" : "gaussian_backward",
                               {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
-                               kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                               kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                               sizeof(TracePush), traceSpec(t.K, kind));
   return p;
 }
 
 const ComputePipeline& preparePipeline(GaussianTracer& t) {
   if (!t.prepare.pipeline)
-    t.prepare = createComputePipeline(*t.ctx, "gaussian_prepare", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+    t.prepare = createComputePipeline(*t.ctx, "gaussian_prepare",
+                                      {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                                       sizeof(PreparePush));
   return t.prepare;
 }
@@ -153,6 +156,7 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
   p.order = medianSplitOrder(boxes);
   p.orderBuffer = createBufferFrom(ctx, p.order);
   p.trace = createBuffer(ctx, VkDeviceSize(p.count) * kTraceGaussianBytes);
+  p.sh = createBuffer(ctx, VkDeviceSize(p.count) * kShPackedBytes);
   AccelOptions opts{allowUpdate, false};
   if (kind == ProxyKind::AabbBlas) {
     p.boxes = createBuffer(ctx, VkDeviceSize(p.count) * sizeof(Box), kAccelInput);
@@ -183,8 +187,9 @@ void cmdUpdateGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, Gaussi
   }
   // Each variant binds the buffer it does not use at its small placeholder size; the
   // shader writes boxes only for the AABB variant and instances only for the instanced one.
-  cmdDispatch(cb, preparePipeline(tracer), {bind(gaussians.params), bind(p.orderBuffer), bind(p.trace), bind(p.boxes), bind(p.instances)},
-              &push, groupsFor(p.count, 64));
+  cmdDispatch(cb, preparePipeline(tracer),
+              {bind(gaussians.params), bind(p.orderBuffer), bind(p.trace), bind(p.boxes), bind(p.instances), bind(p.sh)}, &push,
+              groupsFor(p.count, 64));
   cmdBarrier(cb);
   if (p.kind == ProxyKind::AabbBlas) {
     if (refit) cmdRefit(cb, p.blas); else cmdBuild(cb, p.blas);
@@ -204,7 +209,7 @@ void cmdTraceForward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianP
   TracePush push = tracePush(count, options);
   const Buffer& records = options.hitRecords ? options.hitRecords->buffer : tracer.noHitRecords;
   cmdDispatch(cb, forwardPipeline(tracer, proxies.kind),
-              {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results), bind(records)}, &push,
+              {bind(proxies.tlas), bind(proxies.trace), bind(proxies.sh), bind(rays), bind(results), bind(records)}, &push,
               groupsFor(count, 64));
 }
 
@@ -217,7 +222,7 @@ void cmdTraceBackward(VkCommandBuffer cb, GaussianTracer& tracer, const Gaussian
   const Buffer& records = options.hitRecords ? options.hitRecords->buffer : tracer.noHitRecords;
   cmdDispatch(cb, backwardPipeline(tracer, proxies.kind),
               {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results), bind(dLoss), bind(grads),
-               bind(stats), bind(rayGrads), bind(records)},
+               bind(stats), bind(rayGrads), bind(records), bind(proxies.sh)},
               &push, groupsFor(count, 64));
 }
 

@@ -49,9 +49,12 @@ struct HitRecords {
   uint32_t rays = 0, perRay = 0;
 };
 HitRecords createHitRecords(Context& ctx, uint32_t rays, uint32_t perRay);
-// Records per ray that training keeps by default: trained scenes blend 10-26 hits per ray
-// on average (`refrax bench tracer-scene`), and a ray with more is re-traced, not wrong.
-constexpr uint32_t kDefaultHitRecordsPerRay = 32;
+// Records per ray that training keeps by default (512 bytes per ray). A ray with more hits is
+// re-traced, not wrong, but on a SIMD device its whole group waits for it: on the 100k probe
+// scene (7.4 hits per ray on average) 32 records left 3.5% of rays over and the backward at
+// 1.44-1.50x the forward; 64 cover every ray there and gave 1.23-1.31x (`refrax bench
+// tracer --hit-records`, lavapipe). Trained scenes blend 10-26 hits per ray on average.
+constexpr uint32_t kDefaultHitRecordsPerRay = 64;
 
 struct TraceOptions {
   float background[3] = {0, 0, 0};
@@ -99,6 +102,7 @@ struct GaussianProxies {
   std::vector<uint32_t> order;  // order[slot] = Gaussian id (slot = BLAS primitive / TLAS instance)
   Buffer orderBuffer;
   Buffer trace;      // TraceGaussian per slot (AABB variant) or per id (instanced variant)
+  Buffer sh;         // SH coefficients per Gaussian id as 12 vec4s (the tracer loads these, not the 48 raw floats)
   Buffer boxes;      // AABB per slot (AABB variant; written in both)
   Buffer instances;  // VkAccelerationStructureInstanceKHR per slot (TLAS of either variant)
   Buffer unitBox;    // the one box [-1,1]^3 (instanced variant)

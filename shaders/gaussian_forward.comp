@@ -14,7 +14,7 @@ layout(constant_id = 0) const int K = 16;
 layout(constant_id = 1) const bool kInstanced = false;
 layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
 layout(std430, set = 0, binding = 1) restrict readonly buffer Trace { TraceGaussian tg[]; };
-layout(std430, set = 0, binding = 2) restrict readonly buffer Params { float params[]; };
+layout(std430, set = 0, binding = 2) restrict readonly buffer ShPacked { vec4 shPacked[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Rays { Ray rays[]; };
 layout(std430, set = 0, binding = 4) writeonly buffer Results { TraceResult results[]; };
 // written only for the first pc.recordsPerRay hits of each ray (see HitRecord)
@@ -29,7 +29,6 @@ void main() {
   vec3 o = ray.originTmin.xyz, d = ray.dirTmax.xyz;
   vec3 dn = normalize(d);
   uint coefficients = shCoefficientsFor(pc.shDegree);
-  evaluateShBasis(dn, coefficients);
   float T = 1.0, depth = 0.0, tcur = ray.originTmin.w;
   uint idcur = 0xFFFFFFFFu;  // nothing at t == tmin counts
   vec3 rgb = vec3(0.0);
@@ -37,6 +36,8 @@ void main() {
   for (;;) {
     rounds++;
     int n = collectHits(o, d, tcur, idcur, ray.dirTmax.w);
+    // the SH basis only for rays that hit something (many rays of a sparse scene do not)
+    if (rounds == 1u && n > 0) evaluateShBasis(dn, coefficients);
     for (int k = 0; k < n; k++) {
       float alpha = clampedAlpha(ka[k]);
       loadShCoefficients(kid[k], coefficients);

@@ -1,7 +1,8 @@
 #version 460
 // Gaussian proxies from raw parameters, in proxy order (order[k] = Gaussian id of slot k):
 // the tracer's per-candidate record, an axis-aligned box at the adaptive cut-off radius
-// (AABB-BLAS variant) and a scaled-rotated unit-box instance (instanced variant).
+// (AABB-BLAS variant) and a scaled-rotated unit-box instance (instanced variant); and the SH
+// coefficients packed as vec4s per Gaussian id.
 // Run again before a refit when the Gaussians move.
 #extension GL_GOOGLE_include_directive : require
 #include "gaussian_trace_types.glsl"
@@ -11,6 +12,7 @@ layout(std430, set = 0, binding = 1) readonly buffer Order { uint order[]; };
 layout(std430, set = 0, binding = 2) writeonly buffer Trace { TraceGaussian tg[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer Boxes { float boxes[]; };
 layout(std430, set = 0, binding = 4) writeonly buffer Instances { uint instances[]; };
+layout(std430, set = 0, binding = 5) writeonly buffer ShPacked { vec4 shPacked[]; };  // kShVec4s per Gaussian id
 layout(push_constant) uniform Push {
   uint count;
   uint instanced;      // 1: tg indexed by Gaussian id (the instance's custom index)
@@ -34,6 +36,11 @@ void main() {
   mat3 M = worldToLocalOf(R, 1.0 / s);
   float radius = proxyRadiusOf(density) * kBoxMargin;
   mat3 A = transpose(M) * M;
+  // the SH coefficients as vec4s, so the tracer loads a hit's colour in 12 loads, not 48
+  for (uint j = 0u; j < kShVec4s; j++) {
+    uint f = b + kGaussSH + 4u * j;
+    shPacked[id * kShVec4s + j] = vec4(params[f], params[f + 1u], params[f + 2u], params[f + 3u]);
+  }
   tg[pc.instanced != 0u ? id : k] = TraceGaussian(vec4(mu, density), vec4(A[0][0], A[0][1], A[0][2], A[1][1]),
                                                   vec4(A[1][2], A[2][2], uintBitsToFloat(id), radius * radius));
 

@@ -139,12 +139,13 @@ TEST_CASE("Gaussian tracer reference: analytic gradient matches central differen
 namespace {
 
 void checkGradients(const GaussianSet& set, const GaussianGradients& gpu, const std::vector<double>& want, const std::vector<double>& stats,
-                    const std::vector<ref::RayGradD>& wantRays, ProxyKind kind, bool cas, bool viewpoint);
+                    const std::vector<ref::RayGradD>& wantRays, ProxyKind kind, bool cas, bool viewpoint, uint32_t shDegree);
 
-void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind kind, bool cas, bool viewpoint) {
+void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind kind, bool cas, bool viewpoint, uint32_t shDegree) {
   GaussianSet set = randomGaussians(rng, 1000, testGaussianOptions());
   std::vector<double> params = ref::toDouble(set);
   TraceOptions opt;
+  opt.shDegree = shDegree;
   std::uniform_real_distribution<float> U(-1.0f, 1.0f);
   for (int c = 0; c < 3; c++) opt.background[c] = 0.5f + 0.5f * U(rng);
   // Statistics measured from a viewpoint behind the rays' origins (as for refracted rays), or from the origins.
@@ -178,19 +179,20 @@ void checkBackwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind ki
   for (uint32_t perRay : {0u, most, median}) {
     INFO("hit records per ray: " << perRay << " (0: re-traced; most hits on a ray " << most << ")");
     GaussianGradients gpu = traceGaussiansBackward(ctx, tracer, proxies, dev, rays, fwd, dLoss, opt, perRay);
-    checkGradients(set, gpu, want, stats, wantRays, kind, cas, viewpoint);
+    checkGradients(set, gpu, want, stats, wantRays, kind, cas, viewpoint, shDegree);
   }
 }
 
 void checkGradients(const GaussianSet& set, const GaussianGradients& gpu, const std::vector<double>& want, const std::vector<double>& stats,
-                    const std::vector<ref::RayGradD>& wantRays, ProxyKind kind, bool cas, bool viewpoint) {
+                    const std::vector<ref::RayGradD>& wantRays, ProxyKind kind, bool cas, bool viewpoint, uint32_t shDegree) {
   const size_t nrays = wantRays.size();
   size_t nan = 0;
   for (float v : gpu.params) nan += std::isnan(v);
   for (auto& r : gpu.rays)
     for (int a = 0; a < 3; a++) nan += std::isnan(r.dOrigin[a]) + std::isnan(r.dDir[a]);
   CHECK(nan == 0);
-  INFO(std::string(proxyKindName(kind)) << (cas ? ", compare-and-swap atomics" : ", float atomicAdd") << (viewpoint ? ", statistics from a viewpoint" : ""));
+  INFO(std::string(proxyKindName(kind)) << (cas ? ", compare-and-swap atomics" : ", float atomicAdd") << (viewpoint ? ", statistics from a viewpoint" : "")
+                                        << ", SH degree " << shDegree);
   for (const Group& g : kGroups) {
     GroupError e = groupError(set.count(), g, [&](size_t i) { return gpu.params[i]; }, [&](size_t i) { return want[i]; });
     INFO(std::string(g.name) << ": worst diff " << e.worstDiff << ", largest " << e.largest);
@@ -224,16 +226,16 @@ void checkGradients(const GaussianSet& set, const GaussianGradients& gpu, const 
 }  // namespace
 
 GPU_TEST_CASE("Gaussian backward matches the reference: AABB BLAS, float atomics") {
-  checkBackwardAgainstReference(ctx, rng, ProxyKind::AabbBlas, false, true);
+  checkBackwardAgainstReference(ctx, rng, ProxyKind::AabbBlas, false, true, 3);
 }
 GPU_TEST_CASE("Gaussian backward matches the reference: instanced proxies, float atomics") {
-  checkBackwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox, false, false);
+  checkBackwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox, false, false, 1);
 }
 GPU_TEST_CASE("Gaussian backward matches the reference: AABB BLAS, compare-and-swap atomics") {
-  checkBackwardAgainstReference(ctx, rng, ProxyKind::AabbBlas, true, false);
+  checkBackwardAgainstReference(ctx, rng, ProxyKind::AabbBlas, true, false, 2);
 }
 GPU_TEST_CASE("Gaussian backward matches the reference: instanced proxies, compare-and-swap atomics") {
-  checkBackwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox, true, true);
+  checkBackwardAgainstReference(ctx, rng, ProxyKind::InstancedUnitBox, true, true, 0);
 }
 
 GPU_TEST_CASE("Gaussian backward refuses a non-finite loss gradient") {

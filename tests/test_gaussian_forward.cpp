@@ -50,6 +50,16 @@ void checkForwardAgainstReference(Context& ctx, std::mt19937& rng, ProxyKind kin
   }
   CHECK(multiRound > 100);
   CHECK(opaque > 10);
+  // every SH degree (the tracer reads packed coefficients and zeroes those above the degree)
+  for (uint32_t degree = 0; degree < 3; degree++) {
+    opt.shDegree = degree;
+    auto low = traceGaussians(ctx, tracer, proxies, dev, rays, opt);
+    auto c = compareForward(set, rays, low, toOptionsD(opt));
+    INFO("SH degree " << degree << ": worst colour rel " << c.worstColorRel << ", first problem: " << c.firstProblem);
+    CHECK(c.poisoned == 0);
+    CHECK(c.compared >= rays.size() * 95 / 100);
+    CHECK(c.worstColorRel <= 1e-4);
+  }
 }
 
 }  // namespace

@@ -161,7 +161,7 @@ VariantFigures measureVariant(Context& ctx, GaussianTracer& tracer, const Gaussi
   f.recordedRays /= count;
   // Memory that grows with the Gaussian count: parameters, gradients, statistics and the
   // proxies with their acceleration structures (build scratch included).
-  double bytes = double(dev.params.size + grads.size + stats.size + proxies.trace.size + proxies.orderBuffer.size + proxies.boxes.size +
+  double bytes = double(dev.params.size + grads.size + stats.size + proxies.trace.size + proxies.sh.size + proxies.orderBuffer.size + proxies.boxes.size +
                         proxies.instances.size + proxies.blas.storage.size + proxies.blas.scratch.size + proxies.tlas.storage.size +
                         proxies.tlas.scratch.size);
   f.bytesPerGaussian = bytes / dev.count;

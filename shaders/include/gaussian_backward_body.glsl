@@ -34,6 +34,7 @@ layout(std430, set = 0, binding = 7) buffer Stats { float stats[]; };
 #endif
 layout(std430, set = 0, binding = 8) writeonly buffer RayGrads { RayGrad rayGrads[]; };
 layout(std430, set = 0, binding = 9) readonly buffer HitRecords { HitRecord hitRecords[]; };
+layout(std430, set = 0, binding = 10) restrict readonly buffer ShPacked { vec4 shPacked[]; };
 REFRAX_TRACE_PUSH
 #include "gaussian_kbuffer.glsl"
 

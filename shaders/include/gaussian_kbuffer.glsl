@@ -1,7 +1,7 @@
 // The k-buffer traversal shared by the Gaussian forward and backward shaders (GLSL only).
 // Before including: the spec constants K (k-buffer size) and kInstanced (proxy variant),
-// the acceleration structure `scene`, the buffer `tg` of TraceGaussian and `params` (raw
-// Gaussian parameters, for SH).
+// the acceleration structure `scene`, the buffer `tg` of TraceGaussian and `shPacked` (SH
+// coefficients, kShVec4s vec4s per Gaussian id).
 //
 // Each round collects the K closest accepted hits beyond the previous round's last hit,
 // ordered by (t, Gaussian id) so that equal t values cannot be skipped or repeated; the
@@ -69,9 +69,21 @@ void evaluateShBasis(vec3 dn, uint coefficients) {
 // SH coefficients of one Gaussian, loaded once per hit (the backward reuses them).
 vec3 shC[16];
 void loadShCoefficients(uint id, uint coefficients) {
-  uint base = id * kGaussFloats + kGaussSH;
-  for (uint k = 0u; k < kShCoefficients; k++)
-    shC[k] = k < coefficients ? vec3(params[base + 3u * k], params[base + 3u * k + 1u], params[base + 3u * k + 2u]) : vec3(0.0);
+  uint base = id * kShVec4s;
+  // 3 vec4s hold 4 coefficients: (c0 c1.r) (c1.gb c2.rg) (c2.b c3)
+  for (uint j = 0u; j < kShVec4s / 3u; j++) {  // constant bound: unrolls
+    vec4 a = vec4(0.0), b = vec4(0.0), c = vec4(0.0);
+    if (4u * j < coefficients) {
+      a = shPacked[base + 3u * j];
+      b = shPacked[base + 3u * j + 1u];
+      c = shPacked[base + 3u * j + 2u];
+    }
+    // coefficients beyond the degree read as 0, as their basis values are
+    shC[4u * j] = a.xyz;
+    shC[4u * j + 1u] = 4u * j + 1u < coefficients ? vec3(a.w, b.xy) : vec3(0.0);
+    shC[4u * j + 2u] = 4u * j + 2u < coefficients ? vec3(b.zw, c.x) : vec3(0.0);
+    shC[4u * j + 3u] = 4u * j + 3u < coefficients ? c.yzw : vec3(0.0);
+  }
 }
 
 // SH colour of the loaded Gaussian with the ray's basis shY (+0.5, before the clamp at 0).

@@ -12,6 +12,10 @@ struct TraceGaussian {
   vec4 a1;  // a12 a22 id radius^2
 };
 
+// SH coefficients packed per Gaussian id by gaussian_prepare.comp: the 48 floats of
+// kGaussSH.. (coefficient k, channel c at 3k + c) as 12 vec4s.
+const uint kShVec4s = 12u;
+
 // Per-ray forward output (engine/gaussian_trace.h GpuTraceResult).
 struct TraceResult {
   vec4 rgbOpacity;
