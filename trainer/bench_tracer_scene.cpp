@@ -125,6 +125,9 @@ int runBenchTracerScene(const cli::Args& args) {
   int runs = int(args.getInt("runs", 3));
   long stride = std::max(1L, args.getInt("sample-stride", 8));
   std::vector<int> ks = parseList(args.get("k", "16,48"));
+  const long recordsArg = args.getInt("hit-records", kDefaultHitRecordsPerRay);
+  if (recordsArg < 1 || recordsArg > 1024) fail("--hit-records must be 1..1024");
+  const uint32_t recordsPerRay = uint32_t(recordsArg);
   const uint32_t count = uint32_t(size * size);
   const size_t n = set.count();
 
@@ -168,30 +171,40 @@ int runBenchTracerScene(const cli::Args& args) {
   submitAndWait(*ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, cameraPipelines, camera, rayBuf, 0.0f, 1e6f); });
   std::vector<GpuRay> rays = downloadVector<GpuRay>(*ctx, rayBuf, count);
   std::vector<GpuTraceResult> res;
+  HitRecords records = createHitRecords(*ctx, count, recordsPerRay);
   for (int K : ks) {
     GaussianTracer tracer = createGaussianTracer(*ctx, uint32_t(K));
     GaussianProxies proxies = buildGaussianProxies(*ctx, tracer, dev, set, kind, false);
-    auto forward = [&] { submitAndWait(*ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, tracer, proxies, dev, rayBuf, results, count, opt); }); };
-    auto backward = [&] {
+    auto forward = [&](const TraceOptions& o) {
+      submitAndWait(*ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, tracer, proxies, dev, rayBuf, results, count, o); });
+    };
+    auto backward = [&](const TraceOptions& o) {
       submitAndWait(*ctx, [&](VkCommandBuffer cb) {
-        cmdTraceBackward(cb, tracer, proxies, dev, rayBuf, results, dLoss, grads, stats, rayGrads, count, opt);
+        cmdTraceBackward(cb, tracer, proxies, dev, rayBuf, results, dLoss, grads, stats, rayGrads, count, o);
       });
     };
-    forward();
+    forward(opt);
     double c0 = cpuNowMs();
-    double fwdMs = bench::medianMs(0, runs, forward);
+    double fwdMs = bench::medianMs(0, runs, [&] { forward(opt); });
     double fwdCpu = (cpuNowMs() - c0) / runs;
     res = downloadVector<GpuTraceResult>(*ctx, results, count);
-    double bwdMs = 0;
+    double hits = 0, rounds = 0, recorded = 0;
+    for (const auto& r : res) hits += r.hits, rounds += r.rounds, recorded += r.hits <= recordsPerRay;
+    char backwardText[192] = "";
     if (args.has("backward")) {
-      backward();
-      bwdMs = bench::medianMs(0, runs, backward);
+      backward(opt);
+      double bwdMs = bench::medianMs(0, runs, [&] { backward(opt); });
+      // training's pair: a forward that records the hits, a backward that reads them
+      TraceOptions recording = opt;
+      recording.hitRecords = &records;
+      double recFwdMs = bench::medianMs(0, runs, [&] { forward(recording); });
+      double recBwdMs = bench::medianMs(0, runs, [&] { backward(recording); });
+      std::snprintf(backwardText, sizeof backwardText,
+                    ", re-tracing backward %.1f ms; training pair %.1f + %.1f ms (backward/forward %.2f, %.1f%% of rays recorded)", bwdMs,
+                    recFwdMs, recBwdMs, recBwdMs / recFwdMs, 100.0 * recorded / count);
     }
-    double hits = 0, rounds = 0;
-    for (const auto& r : res) hits += r.hits, rounds += r.rounds;
-    std::printf("K=%d %s: forward %.1f ms (%.3f Mrays/s, cpu %.0f ms/run)%s%.1f%s; %.2f hits/ray, %.3f rounds/ray\n", K, proxyKindName(kind),
-                fwdMs, count / (fwdMs * 1e3), fwdCpu, args.has("backward") ? ", backward " : "", bwdMs, args.has("backward") ? " ms" : "",
-                hits / count, rounds / count);
+    std::printf("K=%d %s: forward %.1f ms (%.3f Mrays/s, cpu %.0f ms/run)%s; %.2f hits/ray, %.3f rounds/ray\n", K, proxyKindName(kind),
+                fwdMs, count / (fwdMs * 1e3), fwdCpu, backwardText, hits / count, rounds / count);
   }
 
   // ---- CPU emulation of the BVH on every stride-th pixel in x and y
@@ -252,9 +265,10 @@ REFRAX_BENCH_SUITE({"tracer-scene",
                      {"size", "PIXELS", "image side in rays", "256"},
                      {"k", "K,K", "k-buffer sizes to time", "16,48"},
                      {"proxy", "aabb|instanced|auto", "Gaussian proxies", "aabb"},
+                     {"hit-records", "N", "with --backward: hit records per ray of training's forward/backward pair", std::to_string(kDefaultHitRecordsPerRay)},
                      {"sh-degree", "D", "SH degree evaluated", "3"},
                      {"runs", "N", "timed runs per measurement (median)", "3"},
-                     {"backward", "", "also time the backward", ""},
+                     {"backward", "", "also time the backward (re-tracing) and training's pair (recording forward, reading backward)", ""},
                      {"sample-stride", "S", "emulate every S-th pixel in x and y", "8"}},
                     runBenchTracerScene});
 
