@@ -171,7 +171,8 @@ int runBenchTracerScene(const cli::Args& args) {
   submitAndWait(*ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, cameraPipelines, camera, rayBuf, 0.0f, 1e6f); });
   std::vector<GpuRay> rays = downloadVector<GpuRay>(*ctx, rayBuf, count);
   std::vector<GpuTraceResult> res;
-  HitRecords records = createHitRecords(*ctx, count, recordsPerRay);
+  HitRecords records;  // training's pair, timed with --backward only
+  if (args.has("backward")) records = createHitRecords(*ctx, count, recordsPerRay);
   for (int K : ks) {
     GaussianTracer tracer = createGaussianTracer(*ctx, uint32_t(K));
     GaussianProxies proxies = buildGaussianProxies(*ctx, tracer, dev, set, kind, false);
