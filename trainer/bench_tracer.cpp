@@ -173,9 +173,7 @@ int runBenchTracer(const cli::Args& args) {
   const int runs = int(args.getInt("runs", 3));
   const uint32_t size = uint32_t(args.getInt("size", 392));
   const uint32_t K = uint32_t(args.getInt("k", kDefaultKBuffer));
-  const long recordsArg = args.getInt("hit-records", kDefaultHitRecordsPerRay);
-  if (recordsArg < 1 || recordsArg > 1024) fail("--hit-records must be 1..1024");
-  const uint32_t recordsPerRay = uint32_t(recordsArg);
+  const uint32_t recordsPerRay = uint32_t(args.getIntIn("hit-records", kDefaultHitRecordsPerRay, 1, 1024));
   const long shDegreeArg = args.getInt("sh-degree", 3);
   if (shDegreeArg < 0 || shDegreeArg > 3) fail("--sh-degree must be 0..3");
   const uint32_t shDegree = uint32_t(shDegreeArg);

@@ -125,9 +125,7 @@ int runBenchTracerScene(const cli::Args& args) {
   int runs = int(args.getInt("runs", 3));
   long stride = std::max(1L, args.getInt("sample-stride", 8));
   std::vector<int> ks = parseList(args.get("k", "16,48"));
-  const long recordsArg = args.getInt("hit-records", kDefaultHitRecordsPerRay);
-  if (recordsArg < 1 || recordsArg > 1024) fail("--hit-records must be 1..1024");
-  const uint32_t recordsPerRay = uint32_t(recordsArg);
+  const uint32_t recordsPerRay = uint32_t(args.getIntIn("hit-records", kDefaultHitRecordsPerRay, 1, 1024));
   const uint32_t count = uint32_t(size * size);
   const size_t n = set.count();
 

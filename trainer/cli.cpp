@@ -53,6 +53,12 @@ long Args::getInt(const std::string& name, long fallback) const {
   return v;
 }
 
+long Args::getIntIn(const std::string& name, long fallback, long lo, long hi) const {
+  long v = getInt(name, fallback);
+  if (v < lo || v > hi) fail("--" + name + " must be between " + std::to_string(lo) + " and " + std::to_string(hi));
+  return v;
+}
+
 std::vector<Option> deviceOptions() {
   return {{"device", "NAME|INDEX", "Vulkan device to use (also REFRAX_DEVICE); default: the best qualifying one", ""},
           {"validation", "", "enable the Khronos validation layer (also REFRAX_VALIDATION=1)", ""}};

@@ -29,6 +29,8 @@ struct Args {
   std::string get(const std::string& name, const std::string& fallback = "") const;
   double getDouble(const std::string& name, double fallback) const;
   long getInt(const std::string& name, long fallback) const;
+  // getInt, and one clear error when the value lies outside [lo, hi]
+  long getIntIn(const std::string& name, long fallback, long lo, long hi) const;
 };
 
 struct Command {

@@ -21,9 +21,7 @@ namespace refrax {
 namespace {
 
 uint32_t positiveCount(const cli::Args& a, const char* name, long fallback, long lo, long hi) {
-  long v = a.getInt(name, fallback);
-  if (v < lo || v > hi) fail(std::string("--") + name + " must be between " + std::to_string(lo) + " and " + std::to_string(hi));
-  return uint32_t(v);
+  return uint32_t(a.getIntIn(name, fallback, lo, hi));
 }
 
 void scheduleOption(const cli::Args& a, const char* name, int& field) {
