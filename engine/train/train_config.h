@@ -82,6 +82,9 @@ struct TrainConfig {
   // Adam learning rate of the surface (MLP weights, or the flat plane's height) at step 0,
   // decaying exponentially to 1/100 of it over lrSteps; reference 5e-4 (DESIGN 1.6).
   double surfaceLearningRate = 5e-4;
+  // Weight of the slope prior (engine/surface_prior.h) added to the loss while the surface
+  // learns; 0 (the reference): none.
+  double surfaceSmoothness = 0;
   uint32_t gridCells = 64, subdivisionLevels = 2;
 
   // Schedule and its resolved values.

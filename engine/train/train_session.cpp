@@ -10,6 +10,7 @@
 #include "engine/error.h"
 #include "engine/gaussian_math.h"
 #include "engine/height_field_source.h"
+#include "engine/surface_prior.h"
 #include "engine/train/init_gaussians.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
@@ -250,6 +251,26 @@ void anchorMeanHeight(TrainSession& s) {
 
 namespace {
 
+// --surface-smoothness: the slope prior's gradient at the coarse grid's vertices (of the
+// surface this step traced) into s.priorGrad, for the height field's backward; returns E.
+double uploadSlopePriorGradient(TrainSession& s) {
+  WaterSurface& ws = *s.surface;
+  const Rect& d = s.config.domain;
+  GridLayout g;
+  g.cellsX = ws.cellsX;
+  g.cellsY = ws.cellsY;
+  g.rowLength = ws.cellsX + 3;  // the border ring
+  g.first = g.rowLength + 1;
+  g.spacingX = (d.xMax - d.xMin) / ws.cellsX;
+  g.spacingY = (d.yMax - d.yMin) / ws.cellsY;
+  std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
+  std::vector<float> grad(heights.size(), 0.0f);
+  double energy = slopePrior(heights, g, s.config.surfaceSmoothness, &grad);
+  if (s.priorGrad.size < grad.size() * sizeof(float)) s.priorGrad = createBuffer(*s.ctx, grad.size() * sizeof(float));
+  upload(*s.ctx, s.priorGrad, grad.data(), grad.size() * sizeof(float));
+  return energy;
+}
+
 void applyDensitySchedule(TrainSession& s, int t) {
   const ScheduleSteps& k = s.config.schedule;
   size_t n = s.gaussians.count();
@@ -360,10 +381,16 @@ StepResult trainStep(TrainSession& s) {
   // Backward: Gaussians, then the surface and its parameters.
   fillBuffer(ctx, s.grads, 0);
   fillBuffer(ctx, s.stats, 0);
+  const bool slopePriorOn = surfaceLearns && s.height && c.surfaceSmoothness > 0;
+  const double priorEnergy = slopePriorOn ? uploadSlopePriorGradient(s) : 0.0;
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     cmdTraceBackward(cb, s.tracer, s.proxies, s.device, traced, s.results, s.dLoss, s.grads, s.stats, s.rayGrads, n, opt);
     if (surfaceLearns && s.height) {
       cmdBackwardSurface(cb, *s.surface, *s.height, s.rays, s.records, s.rayGrads, n, s.heightGrad);
+      if (slopePriorOn) {
+        heightSource(*s.height, s.heightGrad).accumulateGradients(cb, s.surface->gridPoints, s.priorGrad, s.surface->gridPointCount);
+        cmdBarrier(cb);
+      }
       cmdAdamStep(cb, s.adamPipelines, s.heightAdam, s.height->weights, s.heightGrad, 0, true);
       cmdBarrier(cb);
       // The next step's encoding window (recorded after the backward, which used this step's):
@@ -423,7 +450,7 @@ StepResult trainStep(TrainSession& s) {
   if (timing) std::fprintf(stderr, "\n");
 
   r.imageLoss = lossResult[0];
-  r.loss = r.imageLoss + c.densityLossWeight * densitySquares / double(count);
+  r.loss = r.imageLoss + c.densityLossWeight * densitySquares / double(count) + priorEnergy;
   r.psnr = batchPsnr(rendered, target);
   r.gaussians = uint32_t(s.gaussians.count());
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");

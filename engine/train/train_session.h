@@ -5,7 +5,7 @@
 //   -> water surface forward (refracted rays; skipped for --no-refraction)
 //   -> Gaussian forward -> 0.8 L1 + 0.2 (1 - SSIM) + 0.007 mean(density^2)
 //   -> Gaussian backward (per-Gaussian gradients, per-ray dL/d(origin, direction))
-//   -> surface backward -> dL/d(height parameters)
+//   -> surface backward -> dL/d(height parameters) (+ the slope prior's, --surface-smoothness)
 //   -> Adam: the Gaussian table's six groups (engine/train/gaussian_adam.h) and the height
 //      MLP (device Adam, engine/adam.h), or the one height of --flat-water.
 // With REFRAX_TRAIN_TIMING set, each step prints its stages' wall times to stderr.
@@ -64,6 +64,7 @@ struct TrainSession {
   AdamPipelines adamPipelines;
   AdamGroup heightAdam;
   Buffer heightGrad;
+  Buffer priorGrad;  // --surface-smoothness: dE/dheight at the coarse grid's vertices (surface_prior.h)
   AnalyticHeightField plane;  // waves zero, base = planeHeight
   double planeHeight = 0, planeM = 0, planeV = 0;
   int planeStep = 0;
