@@ -1,0 +1,142 @@
+#!/usr/bin/env bash
+# Every preset (issue 6's closing table): test PSNR, SSIM, surface RMSE and training time of the
+# refraction model, with and without the slope prior (--surface-smoothness), next to
+# --flat-water and --no-refraction on the same data, seed and steps,
+# for each NeRFrac-like preset (3 x 3 downward rig, IOR 1.1) and each RefracGS-like scene
+# (desk, kitchen, toys: 24 ring views at IOR 1.33, and their 9-camera downward variants).
+#
+# Usage: bench/presets.sh [--full | --smoke] [--out DIR] [--keep-work] [--charts-only]
+#                         [--models refraction,refraction-smooth,flat-water,no-refraction]
+#                         [--presets NAME,...] [--refraction-options "OPTS"]
+#   default  tiny presets (64 px wide), 1,500 steps of 32 x 32 patches, 2,000 initial Gaussians
+#            capped at 4,000, no density resets, SH degree 0; the refraction model with the
+#            short-run surface settings (3 octaves, --surface-lr 3e-3, the surface learning from
+#            step 200, the anchored mean height; README "Training"), and the same with
+#            --surface-smoothness 0.01 (refraction-smooth). 36 runs, about 3 hours on this 2-core
+#            lavapipe machine.
+#   --full   full-size presets (392 px NeRFrac-like, 400 x 300 RefracGS-like), the reference
+#            schedule: 15,000 whole-image steps, 20,000 initial Gaussians, SH degree 3 (a GPU).
+#   --smoke  two presets, 20 steps (checks the pipeline, not the method).
+#   --models, --presets  run only these models / presets, keeping the other rows of
+#            DIR/presets.csv (e.g. after changing one model's settings).
+#   --refraction-options replaces the refraction model's extra `refrax train` options ("" for
+#            the reference surface settings: 6 octaves, --surface-lr 5e-4, frozen 1/15 of the run;
+#            refraction-smooth adds --surface-smoothness 0.01 to them).
+# Writes DIR/presets.csv (one row per run: `refrax report` columns plus preset and model) and
+# DIR/summary.md (device, load, sizes, and per preset the three models with the refraction
+# model's gain over each comparison).
+set -euo pipefail
+. "$(dirname "$0")/suite-lib.sh"
+invocation="bench/presets.sh${1:+ $*}"
+only_models=""
+only_presets=""
+refraction_options=unset
+args=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --models) [ $# -ge 2 ] || { echo "presets: --models needs a list" >&2; exit 2; }; only_models=$2; shift ;;
+    --presets) [ $# -ge 2 ] || { echo "presets: --presets needs a list" >&2; exit 2; }; only_presets=$2; shift ;;
+    --refraction-options) [ $# -ge 2 ] || { echo "presets: --refraction-options needs a string" >&2; exit 2; }; refraction_options=$2; shift ;;
+    *) args+=("$1") ;;
+  esac
+  shift
+done
+suite_parse_args presets ${args[@]+"${args[@]}"}
+
+presets=(nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown)
+short_run="--mlp-coarse-octaves 3 --octaves-open-until 100000000 --surface-lr 3e-3 --surface-freeze 200 --anchor-mean-height"
+case $mode in
+  default) steps=1500 common="--patch 32 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0"
+    refraction=$short_run ;;
+  full) steps=15000 common="" refraction="" ;;
+  smoke) steps=20 common="--patch 16 --gaussians 300 --sh-degree 0" refraction=$short_run presets=(nerfrac-hybrid desk) ;;
+esac
+[ "$refraction_options" = unset ] || refraction=$refraction_options
+smooth="--surface-smoothness 0.01"
+models=("refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
+all_presets=$(IFS=,; echo "${presets[*]}")
+csv=$out/presets.csv
+if [ -n "$only_models" ]; then
+  kept=()
+  for entry in "${models[@]}"; do
+    case ",$only_models," in *",${entry%%|*},"*) kept+=("$entry") ;; esac
+  done
+  [ ${#kept[@]} -gt 0 ] || { echo "presets: --models names none of refraction, refraction-smooth, flat-water, no-refraction" >&2; exit 2; }
+  models=("${kept[@]}")
+fi
+if [ -n "$only_presets" ]; then
+  kept=()
+  for preset in "${presets[@]}"; do
+    case ",$only_presets," in *",$preset,"*) kept+=("$preset") ;; esac
+  done
+  [ ${#kept[@]} -gt 0 ] || { echo "presets: --presets names none of $all_presets" >&2; exit 2; }
+  presets=("${kept[@]}")
+fi
+
+if [ $charts_only = 0 ]; then
+  rm -f "$out/failures.txt"
+  if [ -n "$only_models$only_presets" ] && [ -f "$csv" ]; then
+    # keep the rows of the other models and presets (the csv's columns 2 and 3)
+    run_models=$(for entry in "${models[@]}"; do printf ',%s' "${entry%%|*}"; done)
+    run_presets=$(printf ',%s' "${presets[@]}")
+    awk -F, -v m="$run_models," -v p="$run_presets," 'NR == 1 || index(m, "," $3 ",") == 0 || index(p, "," $2 ",") == 0' "$csv" > "$csv.tmp"
+    mv "$csv.tmp" "$csv"
+  else
+    rm -f "$csv"
+  fi
+  # Lavapipe compiles each pipeline at its first dispatch (minutes for the MLP kernels): one
+  # discarded 4-step run per model first keeps compile time out of the measured training times.
+  echo "warming up the shader cache (one 4-step run per model)"
+  for entry in "${models[@]}"; do
+    # shellcheck disable=SC2086
+    suite_warmup "$(suite_dataset "${presets[0]}")" $common ${entry#*|}
+  done
+  for preset in "${presets[@]}"; do
+    echo "$preset:"
+    data=$(suite_dataset "$preset")
+    for entry in "${models[@]}"; do
+      name=${entry%%|*}
+      # shellcheck disable=SC2086
+      suite_train "$csv" "preset=$preset,model=$name" "$data" "$preset-$name" --steps $steps --eval-every $steps $common ${entry#*|}
+    done
+  done
+fi
+[ -f "$csv" ] || { echo "presets.sh: no run finished (see $out/failures.txt)" >&2; exit 1; }
+
+# The table: per preset, each model's final evaluation and the refraction model's gain over it.
+summary=$work/summary.md
+python3 - "$csv" "$summary" <<EOF
+import csv, sys
+path, summary = sys.argv[1:]
+rows = [r for r in csv.DictReader(open(path)) if r["eval_step"] == r["config_steps"]]
+def num(r, k, fmt):
+    v = r.get(k, "")
+    return format(float(v), fmt) if v not in ("", "nan") else "-"
+lines = [
+    "# Every preset: refraction against a flat plane and straight rays ($mode)", "",
+    "Device: $device. Generated by \`$invocation\` on $(date -u +%Y-%m-%d).",
+    "$(suite_load_line)", "",
+    "Sizes: \`refrax synth <preset> --size $size\`; every run \`--steps $steps $common\`; the refraction model adds",
+    "\`${refraction:-nothing}\`, refraction-smooth also \`$smooth\`. One seed (1); times are training wall time (evaluations excluded), every run on one",
+    "device, one after the other. *gain* is the refraction-smooth model's test PSNR minus the other model's on the same preset;",
+    "*flat start* is the surface RMSE of the initial flat plane (the water height the dataset gives).", "",
+    "| preset | model | test PSNR (dB) | gain (dB) | SSIM | surface RMSE | flat start | training (s) | Gaussians |",
+    "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+]
+by = {(r["preset"], r["model"]): r for r in rows}
+for preset in dict.fromkeys(r["preset"] for r in rows):
+    ref = by.get((preset, "refraction-smooth"))
+    for model in ("refraction-smooth", "refraction", "flat-water", "no-refraction"):
+        r = by.get((preset, model))
+        if r is None:
+            lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | |")
+            continue
+        gain = "" if model == "refraction-smooth" or ref is None else f'{float(ref["eval_psnr"]) - float(r["eval_psnr"]):+.2f}'
+        lines.append(f'| {preset} | {model} | {num(r, "eval_psnr", ".2f")} | {gain} | {num(r, "eval_ssim", ".3f")} | '
+                     f'{num(r, "eval_surface_rmse", ".4f")} | {num(r, "initial_flat_surface_rmse", ".4f")} | '
+                     f'{num(r, "training_seconds", ".0f")} | {r.get("gaussians", "-")} |')
+open(summary, "w").write("\n".join(lines) + "\n")
+EOF
+mv "$summary" "$out/summary.md.tmp" && mv "$out/summary.md.tmp" "$out/summary.md"
+echo "presets.sh: $(suite_elapsed) s"
+cat "$out/summary.md"
