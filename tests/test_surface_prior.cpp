@@ -23,7 +23,7 @@ size_t slots(const GridLayout& g) { return (size_t(g.cellsY) + 3) * g.rowLength;
 
 }  // namespace
 
-TEST_CASE("slope prior: lambda x mean squared edge slope; a tilted plane has the tilt's squared slope on its x edges") {
+TEST_CASE("slope prior: lambda times the mean squared edge slope, a tilted plane has the tilt's squared slope on its x edges") {
   GridLayout g{6, 4, 7, 0, 0.25, 0.5};
   std::vector<float> h(7 * 5);
   for (uint32_t j = 0; j <= 4; j++)
