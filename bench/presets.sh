@@ -7,13 +7,13 @@
 #
 # Usage: bench/presets.sh [--full | --smoke] [--out DIR] [--keep-work] [--charts-only]
 #                         [--models refraction,refraction-smooth,flat-water,no-refraction]
-#                         [--presets NAME,...] [--refraction-options "OPTS"]
+#                         [--presets NAME,...] [--refraction-options "OPTS"] [--smoothness X]
 #   default  tiny presets (64 px wide), 1,500 steps of 32 x 32 patches, 2,000 initial Gaussians
 #            capped at 4,000, no density resets, SH degree 0; the refraction model with the
 #            short-run surface settings (3 octaves, --surface-lr 3e-3, the surface learning from
 #            step 200, the anchored mean height; README "Training"), and the same with
-#            --surface-smoothness 0.01 (refraction-smooth). 36 runs, about 4 hours on this 2-core
-#            lavapipe machine.
+#            --surface-smoothness 0.1 (refraction-smooth). 36 runs, 33 minutes on this 2-core
+#            lavapipe machine (3.6 hours of training on a slower one).
 #   --full   full-size presets (392 px NeRFrac-like, 400 x 300 RefracGS-like), the reference
 #            schedule: 15,000 whole-image steps, 20,000 initial Gaussians, SH degree 3 (a GPU).
 #   --smoke  two presets, 20 steps (checks the pipeline, not the method).
@@ -21,7 +21,9 @@
 #            DIR/presets.csv (e.g. after changing one model's settings).
 #   --refraction-options replaces the refraction model's extra `refrax train` options ("" for
 #            the reference surface settings: 6 octaves, --surface-lr 5e-4, frozen 1/15 of the run;
-#            refraction-smooth adds --surface-smoothness 0.01 to them).
+#            refraction-smooth adds --surface-smoothness X to them).
+#   --smoothness X  the slope prior's weight for refraction-smooth (default 0.1; 0.01 held
+#            2 of the 4 presets whose surface ran away and let a stable one drift, see README).
 # Writes DIR/presets.csv (one row per run: preset and variant, then `refrax report`'s columns) and
 # DIR/summary.md (device, load, sizes, and per preset the three models with the refraction
 # model's gain over each comparison).
@@ -31,11 +33,13 @@ invocation="bench/presets.sh${1:+ $*}"
 only_models=""
 only_presets=""
 refraction_options=unset
+smoothness=0.1
 args=()
 while [ $# -gt 0 ]; do
   case $1 in
     --models) [ $# -ge 2 ] || { echo "presets: --models needs a list" >&2; exit 2; }; only_models=$2; shift ;;
     --presets) [ $# -ge 2 ] || { echo "presets: --presets needs a list" >&2; exit 2; }; only_presets=$2; shift ;;
+    --smoothness) [ $# -ge 2 ] || { echo "presets: --smoothness needs a number" >&2; exit 2; }; smoothness=$2; shift ;;
     --refraction-options) [ $# -ge 2 ] || { echo "presets: --refraction-options needs a string" >&2; exit 2; }; refraction_options=$2; shift ;;
     *) args+=("$1") ;;
   esac
@@ -52,7 +56,7 @@ case $mode in
   smoke) steps=20 common="--patch 16 --gaussians 300 --sh-degree 0" refraction=$short_run presets=(nerfrac-hybrid desk) ;;
 esac
 [ "$refraction_options" = unset ] || refraction=$refraction_options
-smooth="--surface-smoothness 0.01"
+smooth="--surface-smoothness $smoothness"
 models=("refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
 all_presets=$(IFS=,; echo "${presets[*]}")
 csv=$out/presets.csv
