@@ -191,7 +191,9 @@ TEST_CASE("refrax-view follows a run and loads a newer checkpoint when it appear
   std::string newer = checkpointPath(run, 20), aside = dir / "step20.ckpt";
   fs::rename(newer, aside);
   std::string shot = dir / "view.png";
-  std::string cmd = viewer(run + " --view test:0 --size 64 --frames 40 --exact-water --screenshot " + shot) + " 2>&1";
+  // 40 frames can pass in under a second once the pipelines are cached: --min-seconds makes
+  // the viewer outlast its 1 s checkpoint poll however fast the device is.
+  std::string cmd = viewer(run + " --view test:0 --size 64 --frames 40 --min-seconds 4 --exact-water --screenshot " + shot) + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   REQUIRE(p != nullptr);
   std::string output;
@@ -213,6 +215,15 @@ TEST_CASE("refrax-view follows a run and loads a newer checkpoint when it appear
   CHECK(output.find("validation messages: 0") != std::string::npos);
   REQUIRE(test::runCli("render " + run + " -o " + (dir / "render") + " --split test").exitCode == 0);
   CHECK(maxDifference(readPng(shot), readPng(dir / "render/test_000.png")) <= 1.0 / 255.0);
+
+  // --min-seconds is checked before any window opens.
+  for (const char* bad : {" --frames 2 --min-seconds -1", " --frames 2 --min-seconds nan", " --min-seconds 2"}) {
+    auto r = runShell(std::string("env -u DISPLAY -u WAYLAND_DISPLAY ") + REFRAX_VIEWER + " " + run + bad);
+    INFO(bad << "\n" << r.output);
+    CHECK(r.exitCode == 1);
+    CHECK(r.output.find("--min-seconds") != std::string::npos);
+    CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+  }
 }
 
 TEST_CASE("refrax-view with a missing run or a bad PLY stops with one clear error") {

@@ -127,6 +127,11 @@ int runViewer(const cli::Args& args) {
   if (frames < 0) fail("--frames must be positive");
   if (!screenshot.empty() && frames == 0) fail("--screenshot needs --frames N");
   if (benchmark && frames == 0) fail("--benchmark needs --frames N");
+  // Scripts that watch a training run need wall time, not a frame count: a fast device renders
+  // any fixed count before the 1 s checkpoint poll comes round.
+  const double minSeconds = args.getDouble("min-seconds", 0.0);
+  if (!(minSeconds >= 0.0 && minSeconds <= 86400.0)) fail("--min-seconds must be between 0 and 86400");
+  if (minSeconds > 0.0 && frames == 0) fail("--min-seconds needs --frames N");
   long K = args.getInt("k", defaultK);
   if (K < 1 || K > 64) fail("--k must be between 1 and 64");
   long size = args.getInt("size", 0);
@@ -255,6 +260,7 @@ int runViewer(const cli::Args& args) {
   Benchmark bench;
   bench.warmup = std::min<long>(5, frames / 4);
   long frameIndex = 0;
+  auto firstFrameShown = std::chrono::steady_clock::now();  // --min-seconds counts from the first frame, after pipeline compiles
   const float background[3] = {0.05f, 0.05f, 0.08f};
   auto last = std::chrono::steady_clock::now();
 
@@ -443,7 +449,9 @@ int runViewer(const cli::Args& args) {
       saveScreenshot(*ctx, pixels, rw, rh, name);
       state.screenshot = false;
     }
-    if (frames > 0 && frameIndex >= frames) {
+    if (frameIndex == 1) firstFrameShown = std::chrono::steady_clock::now();
+    const double secondsSinceFirst = std::chrono::duration<double>(std::chrono::steady_clock::now() - firstFrameShown).count();
+    if (frames > 0 && frameIndex >= frames && secondsSinceFirst >= minSeconds) {
       if (!screenshot.empty()) saveScreenshot(*ctx, pixels, rw, rh, screenshot);
       std::printf("rendered %ld frames at %ux%u, last %.1f ms\n", frameIndex, rw, rh, stats.frameMs);
       break;
@@ -512,6 +520,7 @@ cli::Command viewerCommand() {
   options.push_back({"frames", "N", "render N frames, then exit", ""});
   options.push_back({"screenshot", "FILE", "with --frames: save the last render as PNG", ""});
   options.push_back({"benchmark", "", "with --frames: print FPS and GPU ms per stage (after a warm-up)", ""});
+  options.push_back({"min-seconds", "S", "with --frames: keep rendering until S seconds after the first frame (e.g. to see a training run's next checkpoint)", "0"});
   return {"refrax-view", "interactive viewer: fly camera, water on/removed/swapped, per-stage timings",
           "refrax-view [RUN | --ply FILE] [options]", options, runViewer};
 }
