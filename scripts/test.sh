@@ -33,7 +33,7 @@ if [ ${#ctest_args[@]} -gt 0 ]; then
   ctest --output-on-failure -j"$(nproc)" "${ctest_args[@]}"
 else
   # The "long" training tests run after the rest, one at a time: lavapipe spreads each over
-  # every core, and beside other tests one took over its 20-minute limit in CI (alone, ~9 min).
+  # every core, and beside other tests one took over its 20-minute limit in CI (alone, 5 min here).
   status=0
   ctest --output-on-failure -j"$(nproc)" -LE long || status=$?
   ctest --output-on-failure -L long || status=$?
