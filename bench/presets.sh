@@ -25,8 +25,8 @@
 #   --smoothness X  the slope prior's weight for refraction-smooth (default 0.1; 0.01 held
 #            2 of the 4 presets whose surface ran away and let a stable one drift, see README).
 # Writes DIR/presets.csv (one row per run: preset and variant, then `refrax report`'s columns) and
-# DIR/summary.md (device, load, sizes, and per preset the three models with the refraction
-# model's gain over each comparison).
+# DIR/summary.md (device, load, sizes, and per preset the four variants with
+# refraction-smooth's gain over each other one).
 set -euo pipefail
 . "$(dirname "$0")/suite-lib.sh"
 invocation="bench/presets.sh${1:+ $*}"
@@ -55,6 +55,7 @@ case $mode in
   full) steps=15000 common="" refraction="" ;;
   smoke) steps=20 common="--patch 16 --gaussians 300 --sh-degree 0" refraction=$short_run presets=(nerfrac-hybrid desk) ;;
 esac
+[[ $smoothness =~ ^[0-9]+([.][0-9]+)?([eE][-+]?[0-9]+)?$ ]] || { echo "presets: --smoothness needs a number >= 0, not '$smoothness'" >&2; exit 2; }
 [ "$refraction_options" = unset ] || refraction=$refraction_options
 smooth="--surface-smoothness $smoothness"
 models=("refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
