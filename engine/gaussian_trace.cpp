@@ -7,6 +7,7 @@
 #include "engine/error.h"
 #include "engine/gaussian_math.h"
 #include "engine/presort.h"
+#include "engine/gaussian_trace_internal.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
 
@@ -14,14 +15,6 @@ namespace refrax {
 
 namespace {
 
-struct TracePush {
-  float background[4];
-  uint32_t count, shDegree, maxRounds;
-  float minTransmittance;  // forward only (the backward's slot is padding)
-  float statViewpoint[4];  // backward only
-  uint32_t recordsPerRay, pad[3];
-};
-static_assert(sizeof(TracePush) == 64, "TracePush must match REFRAX_TRACE_PUSH (gaussian_trace_types.glsl)");
 struct PreparePush {
   uint32_t count, instanced;
   uint32_t blasAddress[2];
@@ -33,8 +26,6 @@ static_assert(kShPackedBytes == f32::kShCoefficients * 3 * sizeof(float), "the p
 constexpr uint32_t kInstanceBytes = sizeof(VkAccelerationStructureInstanceKHR);
 static_assert(kInstanceBytes == 64, "instance layout written by gaussian_prepare.comp");
 static_assert(sizeof(Box) == 6 * sizeof(float), "gaussianProxyBox writes a Box as six floats");
-
-std::vector<SpecConstant> traceSpec(uint32_t K, ProxyKind kind) { return {{0, K}, {1, kind == ProxyKind::InstancedUnitBox ? 1u : 0u}}; }
 
 const ComputePipeline& forwardPipeline(GaussianTracer& t, ProxyKind kind) {
   ComputePipeline& p = t.forward[uint32_t(kind)];
@@ -58,7 +49,8 @@ const ComputePipeline& backwardPipeline(GaussianTracer& t, ProxyKind kind) {
 const ComputePipeline& preparePipeline(GaussianTracer& t) {
   if (!t.prepare.pipeline)
     t.prepare = createComputePipeline(*t.ctx, "gaussian_prepare",
-                                      {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                                      {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
+                                       kStorageBuffer},
                                       sizeof(PreparePush));
   return t.prepare;
 }
@@ -79,9 +71,6 @@ void gaussianProxyBox(const float* g, float box[6]) {
   }
 }
 
-namespace {
-
-// Rays from the host: a NaN or zero direction would turn into NaN colours and gradients.
 void validateRays(const std::vector<GpuRay>& rays) {
   for (size_t i = 0; i < rays.size(); i++) {
     const GpuRay& r = rays[i];
@@ -92,6 +81,8 @@ void validateRays(const std::vector<GpuRay>& rays) {
     if (r.tmin < 0 || r.tmax < r.tmin) fail("ray " + std::to_string(i) + " has an invalid range [tmin, tmax]");
   }
 }
+
+std::vector<SpecConstant> traceSpec(uint32_t K, ProxyKind kind) { return {{0, K}, {1, kind == ProxyKind::InstancedUnitBox ? 1u : 0u}}; }
 
 TracePush tracePush(uint32_t count, const TraceOptions& o) {
   TracePush push{};
@@ -112,8 +103,6 @@ TracePush tracePush(uint32_t count, const TraceOptions& o) {
   if (o.shDegree > 3) fail("SH degree " + std::to_string(o.shDegree) + " is above 3");
   return push;
 }
-
-}  // namespace
 
 const char* proxyKindName(ProxyKind kind) { return kind == ProxyKind::AabbBlas ? "aabb-blas" : "instanced-unit-box"; }
 
@@ -157,6 +146,7 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
   p.orderBuffer = createBufferFrom(ctx, p.order);
   p.trace = createBuffer(ctx, VkDeviceSize(p.count) * kTraceGaussianBytes);
   p.sh = createBuffer(ctx, VkDeviceSize(p.count) * kShPackedBytes);
+  p.spheres = createBuffer(ctx, VkDeviceSize(p.count) * 16);
   AccelOptions opts{allowUpdate, false};
   if (kind == ProxyKind::AabbBlas) {
     p.boxes = createBuffer(ctx, VkDeviceSize(p.count) * sizeof(Box), kAccelInput);
@@ -188,7 +178,8 @@ void cmdUpdateGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, Gaussi
   // Each variant binds the buffer it does not use at its small placeholder size; the
   // shader writes boxes only for the AABB variant and instances only for the instanced one.
   cmdDispatch(cb, preparePipeline(tracer),
-              {bind(gaussians.params), bind(p.orderBuffer), bind(p.trace), bind(p.boxes), bind(p.instances), bind(p.sh)}, &push,
+              {bind(gaussians.params), bind(p.orderBuffer), bind(p.trace), bind(p.boxes), bind(p.instances), bind(p.sh), bind(p.spheres)},
+              &push,
               groupsFor(p.count, 64));
   cmdBarrier(cb);
   if (p.kind == ProxyKind::AabbBlas) {

@@ -90,6 +90,8 @@ struct GaussianTracer {
   ComputePipeline prepare;
   ComputePipeline forward[2];
   ComputePipeline backward[2];
+  ComputePipeline tileCull;          // engine/tiled_trace.h
+  ComputePipeline forwardTiled[2];
   Buffer noHitRecords;  // bound where no hit records are written or read
 };
 // K: k-buffer size (specialization constant). casAtomics: force the fallback even where
@@ -103,6 +105,7 @@ struct GaussianProxies {
   Buffer orderBuffer;
   Buffer trace;      // TraceGaussian per slot (AABB variant) or per id (instanced variant)
   Buffer sh;         // SH coefficients per Gaussian id as 12 vec4s (the tracer loads these, not the 48 raw floats)
+  Buffer spheres;    // bounding sphere of each cut-off ellipsoid (centre, radius), in `trace`'s order (the tiled forward's culling)
   Buffer boxes;      // AABB per slot (AABB variant; written in both)
   Buffer instances;  // VkAccelerationStructureInstanceKHR per slot (TLAS of either variant)
   Buffer unitBox;    // the one box [-1,1]^3 (instanced variant)

@@ -2,7 +2,8 @@
 // Gaussian proxies from raw parameters, in proxy order (order[k] = Gaussian id of slot k):
 // the tracer's per-candidate record, an axis-aligned box at the adaptive cut-off radius
 // (AABB-BLAS variant) and a scaled-rotated unit-box instance (instanced variant); and the SH
-// coefficients packed as vec4s per Gaussian id.
+// coefficients packed as vec4s per Gaussian id; and, in the record's order, the cut-off
+// ellipsoid's bounding sphere (the tiled forward's culling, tile_cull.comp).
 // Run again before a refit when the Gaussians move.
 #extension GL_GOOGLE_include_directive : require
 #include "gaussian_trace_types.glsl"
@@ -13,6 +14,7 @@ layout(std430, set = 0, binding = 2) writeonly buffer Trace { TraceGaussian tg[]
 layout(std430, set = 0, binding = 3) writeonly buffer Boxes { float boxes[]; };
 layout(std430, set = 0, binding = 4) writeonly buffer Instances { uint instances[]; };
 layout(std430, set = 0, binding = 5) writeonly buffer ShPacked { vec4 shPacked[]; };  // kShVec4s per Gaussian id
+layout(std430, set = 0, binding = 6) writeonly buffer Spheres { vec4 spheres[]; };    // centre, radius per tg record
 layout(push_constant) uniform Push {
   uint count;
   uint instanced;      // 1: tg indexed by Gaussian id (the instance's custom index)
@@ -41,8 +43,11 @@ void main() {
     uint f = b + kGaussSH + 4u * j;
     shPacked[id * kShVec4s + j] = vec4(params[f], params[f + 1u], params[f + 2u], params[f + 3u]);
   }
-  tg[pc.instanced != 0u ? id : k] = TraceGaussian(vec4(mu, density), vec4(A[0][0], A[0][1], A[0][2], A[1][1]),
-                                                  vec4(A[1][2], A[2][2], uintBitsToFloat(id), radius * radius));
+  uint record = pc.instanced != 0u ? id : k;
+  // the ellipsoid radius * R S * unit ball lies within radius * max scale of its centre
+  spheres[record] = vec4(mu, radius * max(s.x, max(s.y, s.z)));
+  tg[record] = TraceGaussian(vec4(mu, density), vec4(A[0][0], A[0][1], A[0][2], A[1][1]),
+                             vec4(A[1][2], A[2][2], uintBitsToFloat(id), radius * radius));
 
   if (pc.instanced == 0u) {
     // world-axis half extent of the ellipsoid R S (radius * unit ball): |row a of R S|

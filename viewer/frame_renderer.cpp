@@ -78,6 +78,11 @@ void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, cons
   Context& ctx = *r.ctx;
   uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
   ensureCapacity(r, n);
+  if (s.tiledTrace && (!r.tiles || r.tiles->width != uint32_t(camera.width) || r.tiles->height != uint32_t(camera.height))) {
+    vkDeviceWaitIdle(ctx.device);
+    r.tiles.reset();
+    r.tiles.emplace(createTileCandidates(ctx, uint32_t(camera.width), uint32_t(camera.height)));
+  }
   WaterMode water = effectiveWater(scene, s);
   r.surfaceMs.clear();
   bool closedForm = water == WaterMode::Kept || (s.swapMesh.empty() && s.swap.kind != "triangle");
@@ -149,7 +154,16 @@ void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, cons
   opt.shDegree = std::min(s.shDegree, 3u);
   opt.minTransmittance = s.minTransmittance;
   cmdBarrier(cb);
-  cmdTraceForward(cb, scene.tracer, sceneProxies(scene), sceneGaussians(scene), r.path != FrameRenderer::Path::Straight ? r.refracted : r.rays, r.results, n, opt);
+  const Buffer& rays = r.path != FrameRenderer::Path::Straight ? r.refracted : r.rays;
+  if (s.tiledTrace) {
+    if (!r.tiles || r.tiles->width * r.tiles->height != n) fail("cmdRenderFrame: the tiles were sized for another image");
+    cmdCullTiles(cb, scene.tracer, sceneProxies(scene), rays, *r.tiles);
+    cmdTimerStamp(cb, timer, "cull");
+    cmdBarrier(cb);
+    cmdTraceForwardTiled(cb, scene.tracer, sceneProxies(scene), rays, r.results, *r.tiles, opt);
+  } else {
+    cmdTraceForward(cb, scene.tracer, sceneProxies(scene), sceneGaussians(scene), rays, r.results, n, opt);
+  }
   cmdTimerStamp(cb, timer, "gaussians");
   cmdComposeView(cb, r.compose, r.results, r.pixels, n, s.compose);
   cmdTimerStamp(cb, timer, "compose");

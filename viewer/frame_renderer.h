@@ -1,6 +1,6 @@
 #pragma once
 // One viewer frame of the Gaussians: camera rays -> (water kept or swapped: refraction at the
-// surface) -> Gaussian forward trace -> RGBA8 pixels (colour or hit heat map), the same stages
+// surface) -> Gaussian forward trace (tiled by default) -> RGBA8 pixels (colour or hit heat map), the same stages
 // and inputs as `refrax render` (engine/train/render_run.cpp), so a screenshot equals its PNG.
 //
 // Two ways through the water:
@@ -23,6 +23,7 @@
 #include "engine/camera.h"
 #include "engine/camera_rays.h"
 #include "engine/mesh_surface.h"
+#include "engine/tiled_trace.h"
 #include "engine/view_compose.h"
 #include "engine/vk_timer.h"
 #include "engine/water_surface.h"
@@ -43,6 +44,9 @@ struct RenderSettings {
   uint32_t gridCells = 64;
   uint32_t shDegree = 3;
   float minTransmittance = TraceOptions{}.minTransmittance;
+  // The Gaussian trace in 8x8 tiles of candidate lists (engine/tiled_trace.h; the same image)
+  // instead of a BVH traversal per ray; off: the BVH, as training and `refrax render` trace.
+  bool tiledTrace = true;
   ComposeOptions compose;
 };
 
@@ -52,6 +56,7 @@ struct FrameRenderer {
   ComputePipeline compose;
   uint32_t capacity = 0;
   Buffer rays, refracted, records, flags, results, pixels;
+  std::optional<TileCandidates> tiles;  // sized for the last frame's image (tiled trace)
 
   enum class Path { Straight, Subdivided, Mesh } path = Path::Straight;  // this frame's way through the water
   std::optional<MeshSurface> mesh;

@@ -198,6 +198,9 @@ int runViewer(const cli::Args& args) {
     if (!(rs.minTransmittance >= 0 && rs.minTransmittance < 1)) fail("--min-transmittance must be in [0, 1)");
   }
   rs.exactWater = args.has("exact-water");
+  std::string gaussianTrace = args.get("gaussian-trace", "tiles");
+  if (gaussianTrace != "tiles" && gaussianTrace != "bvh") fail("--gaussian-trace must be tiles or bvh");
+  rs.tiledTrace = gaussianTrace == "tiles";
   if (args.has("bake-cells")) {
     long cells = args.getInt("bake-cells", 256);
     if (cells < 1 || cells > 4096) fail("--bake-cells must be between 1 and 4096");
@@ -474,8 +477,14 @@ int runViewer(const cli::Args& args) {
         hits += r.hits;
         rounds += r.rounds;
       }
-      std::printf("benchmark trace: K %u, min transmittance %g, %.1f hits and %.2f k-buffer rounds per ray\n", scene->tracer.K,
-                  rs.minTransmittance, hits / double(results.size()), rounds / double(results.size()));
+      std::printf("benchmark trace: %s, K %u, min transmittance %g, %.1f hits and %.2f k-buffer rounds per ray\n",
+                  rs.tiledTrace ? "tiles" : "bvh", scene->tracer.K, rs.minTransmittance, hits / double(results.size()),
+                  rounds / double(results.size()));
+      if (rs.tiledTrace && renderer.tiles) {
+        TileStats t = readTileStats(*ctx, *renderer.tiles);
+        std::printf("benchmark tiles: %u tiles of %ux%u rays, %.1f Gaussians listed per tile (max %u), %u over the list's %u\n", t.tiles,
+                    kTileSide, kTileSide, t.meanListed, t.maxListed, t.overflowed, renderer.tiles->capacity);
+      }
     }
   }
 
@@ -504,6 +513,10 @@ cli::Command viewerCommand() {
   options.push_back({"water-height", "Z", "with --ply: the water level of swapped-in surfaces", "0"});
   options.push_back({"ior", "N", "index of refraction of the water", "the run's (1.33)"});
   options.push_back({"levels", "K", "with --exact-water: subdivision levels of the water surface", "the run's"});
+  options.push_back({"gaussian-trace", "KIND",
+                     "tiles: each 8x8 pixel tile lists the Gaussians its rays can reach and its rays test only those (the same "
+                     "image, faster on CPU devices); bvh: a ray-query traversal per ray, as training and refrax render",
+                     "tiles"});
   options.push_back({"k", "N", "k-buffer size of the Gaussian tracer", "the run's (16)"});
   options.push_back({"sh", "DEGREE", "spherical-harmonics degree (0-3)", "the checkpoint's"});
   options.push_back({"min-transmittance", "T", "stop blending a ray once its transmittance is below T (faster, less exact)", "0.001"});

@@ -72,6 +72,7 @@ void renderSection(const ViewScene& scene, ViewerState& st) {
   RenderSettings& r = st.render;
   ImGui::SliderInt("K (k-buffer)", &st.K, 1, 32);
   ImGui::SliderFloat("min transmittance", &r.minTransmittance, 1e-4f, 0.5f, "%.4f", ImGuiSliderFlags_Logarithmic);
+  ImGui::Checkbox("tiled trace (off: a BVH traversal per ray)", &r.tiledTrace);
   int sh = int(r.shDegree);
   if (ImGui::SliderInt("SH degree", &sh, 0, int(scene.maxShDegree))) r.shDegree = uint32_t(sh);
   bool heat = r.compose.mode == ComposeMode::HitHeatMap;

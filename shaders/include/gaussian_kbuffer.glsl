@@ -15,8 +15,41 @@ uint kid[K];
 
 bool keyBefore(float t0, uint id0, float t1, uint id1) { return t0 < t1 || (t0 == t1 && id0 < id1); }
 
+// Tests the Gaussian of trace record `slot` against the ray and, when it is an accepted hit
+// after (tcur, idcur) and before tmax that belongs among the K closest, inserts it in order.
+// Returns whether it was inserted; n counts the buffer's hits.
+bool insertCandidate(uint slot, vec3 o, vec3 d, float invLen2, float tcur, uint idcur, float tmax, inout int n) {
+  // only what the test needs is loaded (each load is per lane on a CPU device)
+  vec4 md = tg[slot].meanDensity;
+  vec4 a0 = tg[slot].a0;
+  vec2 a1 = tg[slot].a1.xy;
+  mat3 A = mat3(a0.x, a0.y, a0.z, a0.y, a0.w, a1.x, a0.z, a1.x, a1.y);
+  float t;
+  float m = gaussianPeakPrecision(o, d, invLen2, md.xyz, A, t);
+  // cheap pre-test before the exp: outside the (padded) cut-off ellipsoid acceptedAlpha
+  // would reject the hit anyway
+  if (m >= tg[slot].a1.w) return false;
+  float a = acceptedAlpha(m, md.w);
+  if (a == 0.0 || t >= tmax) return false;
+  uint id = floatBitsToUint(tg[slot].a1.z);
+  if (!keyBefore(tcur, idcur, t, id)) return false;
+  if (n == K && !keyBefore(t, id, kt[K - 1], kid[K - 1])) return false;
+  int j = min(n, K - 1);
+  while (j > 0 && keyBefore(t, id, kt[j - 1], kid[j - 1])) {
+    kt[j] = kt[j - 1];
+    ka[j] = ka[j - 1];
+    kid[j] = kid[j - 1];
+    j--;
+  }
+  kt[j] = t;
+  ka[j] = a;
+  kid[j] = id;
+  if (n < K) n++;
+  return true;
+}
+
 // Fills kt/ka/kid with up to K accepted hits after (tcur, idcur) and before tmax, sorted;
-// returns how many.
+// returns how many. The candidates are the proxies the ray query reports.
 int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
   int n = 0;
   float invLen2 = 1.0 / dot(d, d);
@@ -28,34 +61,8 @@ int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
     if (rayQueryGetIntersectionTypeEXT(rq, false) != gl_RayQueryCandidateIntersectionAABBEXT) continue;
     uint slot = kInstanced ? rayQueryGetIntersectionInstanceCustomIndexEXT(rq, false)
                            : rayQueryGetIntersectionPrimitiveIndexEXT(rq, false);
-    // only what the test needs is loaded (each load is per lane on a CPU device)
-    vec4 md = tg[slot].meanDensity;
-    vec4 a0 = tg[slot].a0;
-    vec2 a1 = tg[slot].a1.xy;
-    mat3 A = mat3(a0.x, a0.y, a0.z, a0.y, a0.w, a1.x, a0.z, a1.x, a1.y);
-    float t;
-    float m = gaussianPeakPrecision(o, d, invLen2, md.xyz, A, t);
-    // cheap pre-test before the exp: outside the (padded) cut-off ellipsoid acceptedAlpha
-    // would reject the hit anyway
-    if (m >= tg[slot].a1.w) continue;
-    float a = acceptedAlpha(m, md.w);
-    if (a == 0.0 || t >= tmax) continue;
-    uint id = floatBitsToUint(tg[slot].a1.z);
-    if (!keyBefore(tcur, idcur, t, id)) continue;
-    if (n == K && !keyBefore(t, id, kt[K - 1], kid[K - 1])) continue;
-    int j = min(n, K - 1);
-    while (j > 0 && keyBefore(t, id, kt[j - 1], kid[j - 1])) {
-      kt[j] = kt[j - 1];
-      ka[j] = ka[j - 1];
-      kid[j] = kid[j - 1];
-      j--;
-    }
-    kt[j] = t;
-    ka[j] = a;
-    kid[j] = id;
-    if (n < K) n++;
     // buffer full: shrink the ray to the K-th hit so traversal culls everything beyond
-    if (n == K) rayQueryGenerateIntersectionEXT(rq, kt[K - 1]);
+    if (insertCandidate(slot, o, d, invLen2, tcur, idcur, tmax, n) && n == K) rayQueryGenerateIntersectionEXT(rq, kt[K - 1]);
   }
   return n;
 }

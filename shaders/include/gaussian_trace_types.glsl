@@ -40,6 +40,8 @@ struct TraceResult {
     float minTransmittance; /* forward: TraceOptions::minTransmittance (backward: the default) */    \
     vec4 statViewpoint;     /* backward, w = 1: statistics distances start here */                   \
     uint recordsPerRay;     /* hit records per ray (0: none are written or read) */                  \
+    uint imageWidth;        /* tiled forward: the rays are an image this wide, row by row */         \
+    uint tileCapacity;      /* tiled forward: candidates each tile's list holds */                   \
   } pc;
 
 #endif

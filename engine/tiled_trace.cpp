@@ -1,0 +1,103 @@
+#include "engine/tiled_trace.h"
+
+#include <algorithm>
+
+#include "engine/error.h"
+#include "engine/gaussian_trace_internal.h"
+#include "engine/vk_commands.h"
+#include "engine/vk_context.h"
+
+namespace refrax {
+
+namespace {
+
+struct CullPush {
+  uint32_t width, height, records, capacity;
+};
+
+const ComputePipeline& cullPipeline(GaussianTracer& t) {
+  if (!t.tileCull.pipeline)
+    t.tileCull = createComputePipeline(*t.ctx, "tile_cull", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(CullPush));
+  return t.tileCull;
+}
+
+const ComputePipeline& tiledPipeline(GaussianTracer& t, ProxyKind kind) {
+  ComputePipeline& p = t.forwardTiled[uint32_t(kind)];
+  if (!p.pipeline)
+    p = createComputePipeline(*t.ctx, "gaussian_forward_tiled",
+                              {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
+                               kStorageBuffer, kStorageBuffer},
+                              sizeof(TracePush), traceSpec(t.K, kind));
+  return p;
+}
+
+}  // namespace
+
+TileCandidates createTileCandidates(Context& ctx, uint32_t width, uint32_t height, uint32_t capacity) {
+  if (width == 0 || height == 0) fail("tiled trace: the image has no pixels");
+  if (capacity == 0) fail("tiled trace: a tile's list needs room for at least one candidate");
+  TileCandidates t;
+  t.width = width;
+  t.height = height;
+  t.capacity = capacity;
+  t.tilesX = groupsFor(width, kTileSide);
+  t.tilesY = groupsFor(height, kTileSide);
+  VkDeviceSize tiles = VkDeviceSize(t.tilesX) * t.tilesY;
+  if (tiles * capacity > (VkDeviceSize(1) << 32)) fail("tiled trace: the candidate lists would exceed 2^32 entries (lower the capacity)");
+  t.counts = createBuffer(ctx, tiles * 4);
+  t.candidates = createBuffer(ctx, tiles * capacity * 4);
+  return t;
+}
+
+void cmdCullTiles(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const Buffer& rays, TileCandidates& tiles) {
+  CullPush push{tiles.width, tiles.height, proxies.count, tiles.capacity};
+  cmdDispatch(cb, cullPipeline(tracer), {bind(rays), bind(proxies.spheres), bind(tiles.counts), bind(tiles.candidates)}, &push, tiles.tilesX,
+              tiles.tilesY);
+}
+
+void cmdTraceForwardTiled(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const Buffer& rays,
+                          const Buffer& results, const TileCandidates& tiles, const TraceOptions& options) {
+  TracePush push = tracePush(tiles.width * tiles.height, options);
+  push.imageWidth = tiles.width;
+  push.tileCapacity = tiles.capacity;
+  const Buffer& records = options.hitRecords ? options.hitRecords->buffer : tracer.noHitRecords;
+  cmdDispatch(cb, tiledPipeline(tracer, proxies.kind),
+              {bind(proxies.tlas), bind(proxies.trace), bind(proxies.sh), bind(rays), bind(results), bind(records), bind(tiles.counts),
+               bind(tiles.candidates), bind(proxies.spheres)},
+              &push, tiles.tilesX, tiles.tilesY);
+}
+
+TileStats readTileStats(Context& ctx, const TileCandidates& tiles) {
+  TileStats s;
+  s.tiles = tiles.tilesX * tiles.tilesY;
+  std::vector<uint32_t> counts = downloadVector<uint32_t>(ctx, tiles.counts, s.tiles);
+  double sum = 0;
+  for (uint32_t c : counts) {
+    sum += c;
+    s.maxListed = std::max(s.maxListed, c);
+    s.overflowed += c > tiles.capacity;
+  }
+  s.meanListed = s.tiles ? sum / s.tiles : 0;
+  return s;
+}
+
+std::vector<GpuTraceResult> traceGaussiansTiled(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
+                                                const std::vector<GpuRay>& rays, uint32_t width, uint32_t height,
+                                                const TraceOptions& options, uint32_t capacity, TileStats* stats) {
+  if (size_t(width) * height != rays.size()) fail("tiled trace: " + std::to_string(rays.size()) + " rays are not a " +
+                                                  std::to_string(width) + "x" + std::to_string(height) + " image");
+  validateRays(rays);
+  TileCandidates tiles = createTileCandidates(ctx, width, height, capacity);
+  Buffer rayBuf = createBufferFrom(ctx, rays);
+  Buffer resultBuf = createBuffer(ctx, rays.size() * sizeof(GpuTraceResult));
+  fillBuffer(ctx, resultBuf, 0x7FC00000u);  // NaN: a result the shader did not write shows
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdCullTiles(cb, tracer, proxies, rayBuf, tiles);
+    cmdBarrier(cb);
+    cmdTraceForwardTiled(cb, tracer, proxies, rayBuf, resultBuf, tiles, options);
+  });
+  if (stats) *stats = readTileStats(ctx, tiles);
+  return downloadVector<GpuTraceResult>(ctx, resultBuf, rays.size());
+}
+
+}  // namespace refrax

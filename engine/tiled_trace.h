@@ -1,0 +1,52 @@
+#pragma once
+// The Gaussian forward over an image's rays in tiles: the viewer's fast path on devices where
+// BVH traversal is slow (lavapipe). Two passes:
+//   1. tile_cull.comp: per 8x8 tile of rays, the cone holding all its rays
+//      (shaders/include/ray_bundle.glsl) and the list of Gaussians whose bounding sphere the
+//      cone may reach;
+//   2. gaussian_forward_tiled.comp: each ray tests its tile's list instead of traversing the
+//      BVH, with the forward's k-buffer blend (include/gaussian_forward_body.glsl).
+// The result equals cmdTraceForward's on the same rays: the same hits, tested the same way,
+// blended in the same order (tests/test_tiled_trace.cpp). A tile whose list overflows its
+// capacity traverses the BVH. The rays must be an image, row by row (camera rays, or those
+// rays refracted at the water in the same order); neighbouring pixels' rays make thin cones.
+#include <cstdint>
+#include <vector>
+
+#include "engine/gaussian_trace.h"
+
+namespace refrax {
+
+constexpr uint32_t kTileSide = 8;  // the shaders' workgroup is one 8x8 tile
+// Candidates a tile's list holds. The tiny trained scene lists about ... per tile at 256^2;
+// more than this and the tile falls back to the BVH (correct, slower).
+constexpr uint32_t kDefaultTileCapacity = 4096;
+
+struct TileCandidates {
+  uint32_t width = 0, height = 0, capacity = 0;
+  uint32_t tilesX = 0, tilesY = 0;
+  Buffer counts;      // per tile: Gaussians listed (may exceed capacity)
+  Buffer candidates;  // capacity trace-record indices per tile
+};
+TileCandidates createTileCandidates(Context& ctx, uint32_t width, uint32_t height, uint32_t capacity = kDefaultTileCapacity);
+
+// Pass 1 over `rays` (width * height, row-major) and the proxies' bounding spheres.
+void cmdCullTiles(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const Buffer& rays, TileCandidates& tiles);
+// Pass 2 (after a barrier): writes results as cmdTraceForward does.
+void cmdTraceForwardTiled(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const Buffer& rays,
+                          const Buffer& results, const TileCandidates& tiles, const TraceOptions& options = {});
+
+// What the lists held (downloads the counts).
+struct TileStats {
+  uint32_t tiles = 0, overflowed = 0, maxListed = 0;
+  double meanListed = 0;
+};
+TileStats readTileStats(Context& ctx, const TileCandidates& tiles);
+
+// Both passes from host rays (width * height, row-major); stats, when given, filled.
+std::vector<GpuTraceResult> traceGaussiansTiled(Context& ctx, GaussianTracer& tracer, const GaussianProxies& proxies,
+                                                const std::vector<GpuRay>& rays, uint32_t width, uint32_t height,
+                                                const TraceOptions& options = {}, uint32_t capacity = kDefaultTileCapacity,
+                                                TileStats* stats = nullptr);
+
+}  // namespace refrax
