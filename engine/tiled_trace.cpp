@@ -13,11 +13,14 @@ namespace {
 
 struct CullPush {
   uint32_t width, height, records, capacity;
+  uint32_t side, level, parentCapacity, parentSide;
 };
 
 const ComputePipeline& cullPipeline(GaussianTracer& t) {
   if (!t.tileCull.pipeline)
-    t.tileCull = createComputePipeline(*t.ctx, "tile_cull", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(CullPush));
+    t.tileCull = createComputePipeline(*t.ctx, "tile_cull",
+                                       {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                                       sizeof(CullPush));
   return t.tileCull;
 }
 
@@ -42,17 +45,29 @@ TileCandidates createTileCandidates(Context& ctx, uint32_t width, uint32_t heigh
   t.capacity = capacity;
   t.tilesX = groupsFor(width, kTileSide);
   t.tilesY = groupsFor(height, kTileSide);
-  VkDeviceSize tiles = VkDeviceSize(t.tilesX) * t.tilesY;
-  if (tiles * capacity > (VkDeviceSize(1) << 32)) fail("tiled trace: the candidate lists would exceed 2^32 entries (lower the capacity)");
+  t.blocksX = groupsFor(width, kBlockSide);
+  t.blocksY = groupsFor(height, kBlockSide);
+  t.blockCapacity = capacity * kBlockCapacityFactor;
+  VkDeviceSize tiles = VkDeviceSize(t.tilesX) * t.tilesY, blocks = VkDeviceSize(t.blocksX) * t.blocksY;
+  if (tiles * capacity > (VkDeviceSize(1) << 32) || blocks * t.blockCapacity > (VkDeviceSize(1) << 32))
+    fail("tiled trace: the candidate lists would exceed 2^32 entries (lower the capacity)");
   t.counts = createBuffer(ctx, tiles * 4);
   t.candidates = createBuffer(ctx, tiles * capacity * 4);
+  t.blockCounts = createBuffer(ctx, blocks * 4);
+  t.blockLists = createBuffer(ctx, blocks * t.blockCapacity * 4);
   return t;
 }
 
 void cmdCullTiles(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const Buffer& rays, TileCandidates& tiles) {
-  CullPush push{tiles.width, tiles.height, proxies.count, tiles.capacity};
-  cmdDispatch(cb, cullPipeline(tracer), {bind(rays), bind(proxies.spheres), bind(tiles.counts), bind(tiles.candidates)}, &push, tiles.tilesX,
-              tiles.tilesY);
+  CullPush blocks{tiles.width, tiles.height, proxies.count, tiles.blockCapacity, kBlockSide, 0, 0, 0};
+  cmdDispatch(cb, cullPipeline(tracer),
+              {bind(rays), bind(proxies.spheres), bind(tiles.counts), bind(tiles.candidates), bind(tiles.blockCounts), bind(tiles.blockLists)},
+              &blocks, tiles.blocksX, tiles.blocksY);
+  cmdBarrier(cb);
+  CullPush push{tiles.width, tiles.height, proxies.count, tiles.capacity, kTileSide, 1, tiles.blockCapacity, kBlockSide};
+  cmdDispatch(cb, cullPipeline(tracer),
+              {bind(rays), bind(proxies.spheres), bind(tiles.blockCounts), bind(tiles.blockLists), bind(tiles.counts), bind(tiles.candidates)},
+              &push, tiles.tilesX, tiles.tilesY);
 }
 
 void cmdTraceForwardTiled(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const Buffer& rays,

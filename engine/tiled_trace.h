@@ -3,7 +3,8 @@
 // BVH traversal is slow (lavapipe). Two passes:
 //   1. tile_cull.comp: per 8x8 tile of rays, the cone holding all its rays
 //      (shaders/include/ray_bundle.glsl) and the list of Gaussians whose bounding sphere the
-//      cone may reach;
+//      cone may reach, sorted by depth; in two levels, so that a tile tests only the list of
+//      its 32x32 block (the blocks test every Gaussian);
 //   2. gaussian_forward_tiled.comp: each ray tests its tile's list instead of traversing the
 //      BVH, with the forward's k-buffer blend (include/gaussian_forward_body.glsl).
 // The result equals cmdTraceForward's on the same rays: the same hits, tested the same way,
@@ -17,16 +18,22 @@
 
 namespace refrax {
 
-constexpr uint32_t kTileSide = 8;  // the shaders' workgroup is one 8x8 tile
-// Candidates a tile's list holds. The tiny trained scene lists about ... per tile at 256^2;
-// more than this and the tile falls back to the BVH (correct, slower).
+constexpr uint32_t kTileSide = 8;    // the forward's workgroup is one 8x8 tile
+constexpr uint32_t kBlockSide = 32;  // the first culling level's blocks: 4x4 tiles
+// Candidates a tile's list holds (a block's: kBlockCapacityFactor times that). The tiny
+// trained scene lists 83 per tile on average (at most 232) at 256^2; a tile with more than the
+// capacity traverses the BVH (correct, slower), a block with more lets its tiles test every
+// Gaussian.
 constexpr uint32_t kDefaultTileCapacity = 4096;
+constexpr uint32_t kBlockCapacityFactor = 4;
 
 struct TileCandidates {
   uint32_t width = 0, height = 0, capacity = 0;
   uint32_t tilesX = 0, tilesY = 0;
   Buffer counts;      // per tile: Gaussians listed (may exceed capacity)
   Buffer candidates;  // capacity trace-record indices per tile
+  uint32_t blocksX = 0, blocksY = 0, blockCapacity = 0;
+  Buffer blockCounts, blockLists;  // the same per 32x32 block
 };
 TileCandidates createTileCandidates(Context& ctx, uint32_t width, uint32_t height, uint32_t capacity = kDefaultTileCapacity);
 
