@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # refrax-view frame rate (issue 7): FPS and GPU milliseconds per stage at 256² and 392², with
 # the water kept (baked mesh, the default), removed, and kept exactly (--exact-water: the
-# trainer's subdivided surface, as refrax render), for two trained scenes:
+# trainer's subdivided surface, as refrax render), each with the tiled Gaussian trace (the
+# default) and the BVH traversal per ray (--gaussian-trace bvh) one after the other, for two
+# trained scenes:
 #   tiny    refrax synth nerfrac-primary-sine --size tiny; train --steps 300 --patch 32
 #           --gaussians 2000 (densifies to a few thousand)
 #   medium  the same data; train --steps 30 --gaussians 30000 --no-densify
@@ -50,8 +52,9 @@ log="$work/log"
   echo "# bench/viewer.sh: refrax-view --benchmark, $(date -u +%Y-%m-%d), $(nproc) cores, load: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "# scenes: tiny = refrax train (synth nerfrac-primary-sine tiny) --steps 300 --patch 32 --gaussians 2000;"
   echo "#         medium = same data --steps 30 --gaussians 30000 --no-densify"
-  echo "# command: xvfb-run -a refrax-view RUN --size S --frames $frames --benchmark --water W --camera 0,-1.2,0.8,0,0,-0.6"
-  echo "# (first frame = warm-up, not counted); water keep = baked mesh (default), keep --exact-water = subdivided surface"
+  echo "# command: xvfb-run -a refrax-view RUN --size S --frames $frames --benchmark --water W --gaussian-trace T --camera 0,-1.2,0.8,0,0,-0.6"
+  echo "# (first frame = warm-up, not counted); water keep = baked mesh (default), keep --exact-water = subdivided surface;"
+  echo "# T = tiles (default) or bvh, run back to back so their ratio is measured under the same load"
 } >"$log"
 for scene in ${scenes//,/ }; do
   case "$scene" in
@@ -63,11 +66,13 @@ for scene in ${scenes//,/ }; do
   "$REFRAX" train "$work/data" -o "$work/$scene" "${train_args[@]}" --progress-every 100 >/dev/null
   for size in ${sizes//,/ }; do
     for water in "keep" "remove" "keep --exact-water"; do
-      echo "viewer.sh: $scene ${size}² water $water" >&2
-      # shellcheck disable=SC2086  # "keep --exact-water" is two arguments on purpose
-      xvfb-run -a "$VIEW" "$work/$scene" --size "$size" --frames "$frames" --benchmark \
-        --camera 0,-1.2,0.8,0,0,-0.6 --water $water 2>&1 | grep '^benchmark' |
-        sed "s#$work/##; s#^benchmark#benchmark [--water $water]#" >>"$log"
+      for trace in tiles bvh; do
+        echo "viewer.sh: $scene ${size}² water $water, $trace" >&2
+        # shellcheck disable=SC2086  # "keep --exact-water" is two arguments on purpose
+        xvfb-run -a "$VIEW" "$work/$scene" --size "$size" --frames "$frames" --benchmark \
+          --camera 0,-1.2,0.8,0,0,-0.6 --water $water --gaussian-trace $trace 2>&1 | grep '^benchmark' |
+          sed "s#$work/##; s#^benchmark#benchmark [--water $water --gaussian-trace $trace]#" >>"$log"
+      done
     done
   done
 done

@@ -93,6 +93,14 @@ TileStats readTileStats(Context& ctx, const TileCandidates& tiles) {
     s.overflowed += c > tiles.capacity;
   }
   s.meanListed = s.tiles ? sum / s.tiles : 0;
+  s.blocks = tiles.blocksX * tiles.blocksY;
+  std::vector<uint32_t> blockCounts = downloadVector<uint32_t>(ctx, tiles.blockCounts, s.blocks);
+  double blockSum = 0;
+  for (uint32_t c : blockCounts) {
+    blockSum += c;
+    s.blocksOverflowed += c > tiles.blockCapacity;
+  }
+  s.meanBlockListed = s.blocks ? blockSum / s.blocks : 0;
   return s;
 }
 

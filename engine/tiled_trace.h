@@ -47,6 +47,8 @@ void cmdTraceForwardTiled(VkCommandBuffer cb, GaussianTracer& tracer, const Gaus
 struct TileStats {
   uint32_t tiles = 0, overflowed = 0, maxListed = 0;
   double meanListed = 0;
+  uint32_t blocks = 0, blocksOverflowed = 0;  // first level: blocks whose tiles tested every Gaussian
+  double meanBlockListed = 0;
 };
 TileStats readTileStats(Context& ctx, const TileCandidates& tiles);
 

@@ -43,7 +43,7 @@ shared vec4 coneDir;             // xyz, w = dirRadius
 shared vec2 coneRange;           // sMin, sMax
 shared bool coneEmpty;
 shared uint listed;
-const uint kSortedMax = 1024u;  // 8 KiB of shared memory for the keys and ids
+const uint kSortedMax = 2048u;  // 16 KiB of shared memory for the keys and ids (32 KiB on lavapipe in all)
 shared float sortKey[kSortedMax];
 shared uint sortId[kSortedMax];
 const uint kBuckets = 64u;

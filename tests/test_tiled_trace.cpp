@@ -223,25 +223,32 @@ GPU_TEST_CASE("tiled forward equals the BVH forward and the double reference (ca
     }
 }
 
-GPU_TEST_CASE("tiled forward: tiles whose list overflows traverse the BVH and give the same image") {
+GPU_TEST_CASE("tiled forward: tiles or blocks whose list overflows traverse the BVH or test every Gaussian, and give the same image") {
   GaussianSet set = randomGaussians(rng, 1200, testGaussianOptions());
   DeviceGaussians dev = uploadGaussians(ctx, set);
   GaussianTracer tracer = createGaussianTracer(ctx);
   GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
-  const int width = 24, height = 16;
+  const int width = 72, height = 40;  // 3x2 blocks (two of them partial) of 9x5 tiles
   std::vector<GpuRay> rays = cameraImage(rng, width, height);
   TraceOptions opt;
-  TileStats full, small;
+  TileStats full;
   auto reference = traceGaussiansTiled(ctx, tracer, proxies, rays, width, height, opt, kDefaultTileCapacity, &full);
-  // a capacity between the emptiest and the fullest list: some tiles overflow, some do not
-  uint32_t capacity = std::max(1u, uint32_t(full.meanListed));
-  auto overflowing = traceGaussiansTiled(ctx, tracer, proxies, rays, width, height, opt, capacity, &small);
-  INFO("capacity " << capacity << ", mean " << full.meanListed << ", max " << full.maxListed);
   CHECK(full.overflowed == 0);
-  CHECK(small.overflowed > 0);
-  CHECK(small.overflowed < small.tiles);
-  checkSameAsBvh(overflowing, reference);
+  CHECK(full.blocksOverflowed == 0);
   checkSameAsBvh(reference, traceGaussians(ctx, tracer, proxies, dev, rays, opt));
+  // a tile capacity near the mean list: some tiles overflow, some do not; a capacity a quarter
+  // of a block's mean list (the block's capacity is 4x the tile's): the blocks overflow too
+  uint32_t tileCase = std::max(1u, uint32_t(full.meanListed)), blockCase = std::max(1u, uint32_t(full.meanBlockListed / 16));
+  for (uint32_t capacity : {tileCase, blockCase}) {
+    TileStats small;
+    auto overflowing = traceGaussiansTiled(ctx, tracer, proxies, rays, width, height, opt, capacity, &small);
+    INFO("capacity " << capacity << ": tile lists mean " << full.meanListed << ", max " << full.maxListed << "; block lists mean "
+                     << full.meanBlockListed << "; tiles over " << small.overflowed << ", blocks over " << small.blocksOverflowed);
+    CHECK(small.overflowed > 0);
+    if (capacity == tileCase) CHECK(small.overflowed < small.tiles);
+    if (capacity == blockCase) CHECK(small.blocksOverflowed > 0);
+    checkSameAsBvh(overflowing, reference);
+  }
 }
 
 GPU_TEST_CASE("tiled forward refuses rays that are not the stated image, and empty images") {

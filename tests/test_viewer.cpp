@@ -115,6 +115,16 @@ TEST_CASE("refrax-view shows a trained run's dataset camera as refrax render doe
     Image a = readPng(shot), b = readPng(out + "/test_000.png");
     CHECK(maxDifference(a, b) <= 1.0 / 255.0);
     shots[water] = a;
+    if (water == "keep") {
+      // the viewer's default Gaussian trace is tiled (engine/tiled_trace.h); the BVH traversal
+      // per ray, as refrax render traces, gives the same image
+      std::string bvhShot = dir / "view-bvh.png";
+      auto w = runShell(viewer(run + " --view test:0 --size 64 --frames 3 --exact-water --gaussian-trace bvh --screenshot " + bvhShot));
+      INFO(w.output);
+      REQUIRE(w.exitCode == 0);
+      CHECK(w.output.find("validation messages: 0") != std::string::npos);
+      CHECK(maxDifference(readPng(bvhShot), b) <= 1.0 / 255.0);
+    }
   }
   // and the comparison can tell the water modes apart (20 steps leave a dim scene: measured
   // 15/255 and 16/255 apart, against the 1/255 allowed above)
@@ -236,7 +246,8 @@ TEST_CASE("refrax-view with a missing run or a bad PLY stops with one clear erro
                {dir / "empty", "is not a training run"},
                {"--ply " + (dir / "bad.ply"), "is not a PLY file"},
                {"--ply /no/such.ply", "cannot open Gaussian PLY"},
-               {"/no/such/run --ply /no/such.ply", "not both"}};
+               {"/no/such/run --ply /no/such.ply", "not both"},
+               {"--gaussian-trace rays", "--gaussian-trace must be tiles or bvh"}};
   for (const auto& c : cases) {
     // checked before any window opens: the same error with or without a display
     auto r = runShell(std::string("env -u DISPLAY -u WAYLAND_DISPLAY ") + REFRAX_VIEWER + " " + c.args + " --frames 1");

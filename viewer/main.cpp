@@ -132,6 +132,9 @@ int runViewer(const cli::Args& args) {
   const double minSeconds = args.getDouble("min-seconds", 0.0);
   if (!(minSeconds >= 0.0 && minSeconds <= 86400.0)) fail("--min-seconds must be between 0 and 86400");
   if (minSeconds > 0.0 && frames == 0) fail("--min-seconds needs --frames N");
+  const std::string gaussianTrace = args.get("gaussian-trace", "tiles");
+  if (gaussianTrace != "tiles" && gaussianTrace != "bvh") fail("--gaussian-trace must be tiles or bvh");
+  const bool tiledTrace = gaussianTrace == "tiles";
   long K = args.getInt("k", defaultK);
   if (K < 1 || K > 64) fail("--k must be between 1 and 64");
   long size = args.getInt("size", 0);
@@ -198,9 +201,7 @@ int runViewer(const cli::Args& args) {
     if (!(rs.minTransmittance >= 0 && rs.minTransmittance < 1)) fail("--min-transmittance must be in [0, 1)");
   }
   rs.exactWater = args.has("exact-water");
-  std::string gaussianTrace = args.get("gaussian-trace", "tiles");
-  if (gaussianTrace != "tiles" && gaussianTrace != "bvh") fail("--gaussian-trace must be tiles or bvh");
-  rs.tiledTrace = gaussianTrace == "tiles";
+  rs.tiledTrace = tiledTrace;
   if (args.has("bake-cells")) {
     long cells = args.getInt("bake-cells", 256);
     if (cells < 1 || cells > 4096) fail("--bake-cells must be between 1 and 4096");
@@ -482,8 +483,10 @@ int runViewer(const cli::Args& args) {
                   rounds / double(results.size()));
       if (rs.tiledTrace && renderer.tiles) {
         TileStats t = readTileStats(*ctx, *renderer.tiles);
-        std::printf("benchmark tiles: %u tiles of %ux%u rays, %.1f Gaussians listed per tile (max %u), %u over the list's %u\n", t.tiles,
-                    kTileSide, kTileSide, t.meanListed, t.maxListed, t.overflowed, renderer.tiles->capacity);
+        std::printf("benchmark tiles: %u tiles of %ux%u rays, %.1f Gaussians listed per tile (max %u), %u over the list's %u; "
+                    "%u blocks of %ux%u, %.1f listed per block, %u over %u\n",
+                    t.tiles, kTileSide, kTileSide, t.meanListed, t.maxListed, t.overflowed, renderer.tiles->capacity, t.blocks, kBlockSide,
+                    kBlockSide, t.meanBlockListed, t.blocksOverflowed, renderer.tiles->blockCapacity);
       }
     }
   }
