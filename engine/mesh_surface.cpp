@@ -17,7 +17,27 @@ namespace {
 struct MeshRefractPush {
   uint32_t count;
   float eta;
+  uint32_t cells[2];
+  float domain[4];
+  float heights[2];
 };
+
+// The mesh is the grid: its vertex count and every vertex's x and y (as makeGridMesh places
+// them, to float rounding).
+void checkGrid(const SurfaceMesh& mesh, const HeightGridLayout& g) {
+  const std::string what = "surface mesh: not the stated height grid: ";
+  if (g.cellsX == 0 || g.cellsY == 0 || !(g.x1 > g.x0) || !(g.y1 > g.y0)) fail(what + "no cells or an empty domain");
+  if (mesh.vertexCount() != size_t(g.cellsX + 1) * (g.cellsY + 1))
+    fail(what + std::to_string(mesh.vertexCount()) + " vertices for " + std::to_string(g.cellsX) + "x" + std::to_string(g.cellsY) + " cells");
+  float tolerance = 1e-5f * std::max({std::abs(g.x0), std::abs(g.x1), std::abs(g.y0), std::abs(g.y1), 1.0f});
+  for (uint32_t j = 0; j <= g.cellsY; j++)
+    for (uint32_t i = 0; i <= g.cellsX; i++) {
+      const float* p = &mesh.positions[3 * (size_t(j) * (g.cellsX + 1) + i)];
+      float x = g.x0 + (g.x1 - g.x0) * float(i) / float(g.cellsX), y = g.y0 + (g.y1 - g.y0) * float(j) / float(g.cellsY);
+      if (std::abs(p[0] - x) > tolerance || std::abs(p[1] - y) > tolerance)
+        fail(what + "vertex (" + std::to_string(i) + ", " + std::to_string(j) + ") is not on the lattice");
+    }
+}
 
 void checkMesh(const SurfaceMesh& mesh) {
   const std::string what = "surface mesh: ";
@@ -73,9 +93,20 @@ std::vector<float> meshUnitNormals(const SurfaceMesh& mesh) {
   return n;
 }
 
-MeshSurface createMeshSurface(Context& ctx, const SurfaceMesh& mesh) {
+MeshSurface createMeshSurface(Context& ctx, const SurfaceMesh& mesh, const HeightGridLayout* grid) {
   std::vector<float> normals = meshUnitNormals(mesh);  // validates
   MeshSurface m;
+  if (grid) {
+    checkGrid(mesh, *grid);
+    m.walkGrid = true;
+    m.grid = *grid;
+    m.zMin = INFINITY;
+    m.zMax = -INFINITY;
+    for (size_t i = 2; i < mesh.positions.size(); i += 3) {
+      m.zMin = std::min(m.zMin, mesh.positions[i]);
+      m.zMax = std::max(m.zMax, mesh.positions[i]);
+    }
+  }
   m.vertexCount = uint32_t(mesh.vertexCount());
   m.triangleCount = uint32_t(mesh.triangleCount());
   m.positions = createBufferFrom(ctx, mesh.positions, kAccelInput);
@@ -89,7 +120,8 @@ MeshSurface createMeshSurface(Context& ctx, const SurfaceMesh& mesh) {
     cmdBuild(cb, m.top.tlas);
   });
   auto B = kStorageBuffer;
-  m.refract = createComputePipeline(ctx, "mesh_refract", {kAccelStruct, B, B, B, B, B, B}, sizeof(MeshRefractPush));
+  m.refract = createComputePipeline(ctx, "mesh_refract", {kAccelStruct, B, B, B, B, B, B}, sizeof(MeshRefractPush),
+                                    {{0, m.walkGrid ? 1u : 0u}});
   return m;
 }
 
@@ -101,7 +133,8 @@ void cmdRefractThroughMesh(VkCommandBuffer cb, const MeshSurface& mesh, const Bu
   if (rays.size < VkDeviceSize(count) * sizeof(GpuRay) || refracted.size < VkDeviceSize(count) * sizeof(GpuRay) ||
       flags.size < VkDeviceSize(count) * 4)
     fail("surface mesh: the ray, refracted-ray or flag buffer is too small for " + std::to_string(count) + " rays");
-  MeshRefractPush push{count, 1.0f / ior};
+  MeshRefractPush push{count, 1.0f / ior, {mesh.grid.cellsX, mesh.grid.cellsY}, {mesh.grid.x0, mesh.grid.y0, mesh.grid.x1, mesh.grid.y1},
+                       {mesh.zMin, mesh.zMax}};
   cmdBarrier(cb);
   cmdDispatch(cb, mesh.refract,
               {bind(mesh.top.tlas), bind(rays), bind(mesh.positions), bind(mesh.normals), bind(mesh.indices), bind(refracted), bind(flags)},

@@ -33,9 +33,11 @@ constexpr double kPointTol = 2e-6;
 constexpr double kDirTol = 1e-5;
 
 // GPU against the reference; `referenceMesh` when the device got another copy of the mesh.
+// `grid`: the mesh is that height grid, walked cell by cell instead of the BVH.
 ref::MeshRefractReport compareWithReference(Context& ctx, const SurfaceMesh& mesh, const std::vector<GpuRay>& rays, float ior,
-                                            const SurfaceMesh* referenceMesh = nullptr) {
-  MeshSurface surface = createMeshSurface(ctx, mesh);
+                                            const SurfaceMesh* referenceMesh = nullptr, const HeightGridLayout* grid = nullptr) {
+  MeshSurface surface = createMeshSurface(ctx, mesh, grid);
+  CHECK(surface.walkGrid == (grid != nullptr));
   CHECK(surface.vertexCount == mesh.vertexCount());
   CHECK(surface.triangleCount == mesh.triangleCount());
   test::MeshRun run = test::runMeshRefract(ctx, surface, rays, ior);
@@ -55,8 +57,8 @@ ref::MeshRefractReport compareWithReference(Context& ctx, const SurfaceMesh& mes
 // Random rays (meshTestRays): every kind of outcome occurs, and edge cases stay rare (so
 // the comparison is not vacuous).
 ref::MeshRefractReport checkMesh(Context& ctx, const SurfaceMesh& mesh, const std::vector<GpuRay>& rays, float ior,
-                                 const SurfaceMesh* referenceMesh = nullptr) {
-  ref::MeshRefractReport rep = compareWithReference(ctx, mesh, rays, ior, referenceMesh);
+                                 const SurfaceMesh* referenceMesh = nullptr, const HeightGridLayout* grid = nullptr) {
+  ref::MeshRefractReport rep = compareWithReference(ctx, mesh, rays, ior, referenceMesh, grid);
   CHECK(rep.invalid >= 7);  // the 7 made invalid, and short rays whose tmax fell below their tmin
   CHECK(rep.ambiguous * 50 <= rep.rays);
   CHECK(rep.hits * 3 >= rep.rays);
@@ -76,6 +78,34 @@ GPU_TEST_CASE("mesh surface: a perturbed non-uniform grid refracts as the double
   ref::MeshRefractReport edges = compareWithReference(ctx, mesh, test::raysAtEdges(rng, mesh, 600), 1.33f);
   CHECK(edges.ambiguous * 2 >= edges.rays);
   CHECK(edges.hits * 10 >= edges.rays * 9);
+}
+
+GPU_TEST_CASE("mesh surface: a height grid walked cell by cell refracts as the double reference (and as the BVH)") {
+  // steep random waves on a grid that is not square, over a domain off the origin; the test
+  // rays come from above and below, aimed at the grid's neighbourhood (meshTestRays)
+  std::uniform_real_distribution<float> U(-1.0f, 1.0f);
+  float a = 0.04f * (1.5f + U(rng)), kx = 9.0f + 3.0f * U(rng), ky = 7.0f + 3.0f * U(rng);
+  GridMesh g = makeGridMesh(23, 17, -1.1f, -0.85f, 1.0f, 0.95f, [&](float x, float y) {
+    return a * std::sin(kx * x + 1.0f) * std::cos(ky * y) + 0.01f * std::sin(40.0f * x * y);
+  });
+  SurfaceMesh mesh = surfaceMeshFromGrid(g);
+  HeightGridLayout layout{g.cellsX, g.cellsY, g.x0, g.y0, g.x1, g.y1};
+  auto rays = test::meshTestRays(rng, 3000);
+  ref::MeshRefractReport walked = checkMesh(ctx, mesh, rays, 1.33f, nullptr, &layout);
+  ref::MeshRefractReport bvh = checkMesh(ctx, mesh, rays, 1.33f);
+  CHECK(walked.hits == bvh.hits);
+  CHECK(walked.backFacing == bvh.backFacing);
+  // rays through shared edges and vertices still hit one of the neighbours
+  ref::MeshRefractReport edges = compareWithReference(ctx, mesh, test::raysAtEdges(rng, mesh, 600), 1.33f, nullptr, &layout);
+  CHECK(edges.ambiguous * 2 >= edges.rays);
+  CHECK(edges.hits * 10 >= edges.rays * 9);
+  // a mesh that is not the stated grid is refused
+  HeightGridLayout wrongCells = layout;
+  wrongCells.cellsX += 1;
+  CHECK_THROWS_WITH_AS(createMeshSurface(ctx, mesh, &wrongCells), doctest::Contains("not the stated height grid"), Error);
+  HeightGridLayout wrongDomain = layout;
+  wrongDomain.x1 += 0.1f;
+  CHECK_THROWS_WITH_AS(createMeshSurface(ctx, mesh, &wrongDomain), doctest::Contains("is not on the lattice"), Error);
 }
 
 GPU_TEST_CASE("mesh surface: a triangle soup with steep and back-facing triangles refracts as the double reference") {

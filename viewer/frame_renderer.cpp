@@ -54,9 +54,10 @@ void ensureMesh(FrameRenderer& r, ViewScene& scene, WaterMode water, const Rende
   const SurfaceDomain& d = scene.domain;
   char grid[160];
   std::snprintf(grid, sizeof grid, " | %u cells over %.9g %.9g %.9g %.9g", s.bakeCells, d.x0, d.y0, d.x1, d.y1);
-  std::string key = water == WaterMode::Kept ? "learned " + std::to_string(scene.generation) + grid
+  std::string key = std::string(s.walkGrid ? "walk | " : "bvh | ") +
+                    (water == WaterMode::Kept ? "learned " + std::to_string(scene.generation) + grid
                     : !s.swapMesh.empty()   ? "gltf " + s.swapMesh
-                                            : "builtin " + describe(s.swap) + grid;
+                                            : "builtin " + describe(s.swap) + grid);
   if (r.mesh && r.meshKey == key) return;
   SurfaceMesh mesh;
   if (water == WaterMode::Kept) {
@@ -66,9 +67,12 @@ void ensureMesh(FrameRenderer& r, ViewScene& scene, WaterMode water, const Rende
   } else {
     mesh = surfaceMeshFromGrid(makeGridMesh(s.bakeCells, s.bakeCells, d.x0, d.y0, d.x1, d.y1, surfaceHeightFunction(s.swap)));
   }
+  // the learned and built-in surfaces are height grids: walked cell by cell, not through the BVH
+  HeightGridLayout layout{s.bakeCells, s.bakeCells, d.x0, d.y0, d.x1, d.y1};
+  bool isGrid = s.swapMesh.empty() || water == WaterMode::Kept;
   vkDeviceWaitIdle(ctx.device);
   r.mesh.reset();
-  r.mesh.emplace(createMeshSurface(ctx, mesh));
+  r.mesh.emplace(createMeshSurface(ctx, mesh, isGrid && s.walkGrid ? &layout : nullptr));
   r.meshKey = key;
 }
 

@@ -47,6 +47,10 @@ struct RenderSettings {
   // The Gaussian trace in 8x8 tiles of candidate lists (engine/tiled_trace.h; the same image)
   // instead of a BVH traversal per ray; off: the BVH, as training and `refrax render` trace.
   bool tiledTrace = true;
+  // A baked learned or built-in surface (a height grid) found by walking its cells (engine/
+  // mesh_surface.h HeightGridLayout) instead of a ray query per ray through its BVH; the same
+  // triangles. A glTF mesh always takes the BVH.
+  bool walkGrid = true;
   ComposeOptions compose;
 };
 

@@ -135,6 +135,8 @@ int runViewer(const cli::Args& args) {
   const std::string gaussianTrace = args.get("gaussian-trace", "tiles");
   if (gaussianTrace != "tiles" && gaussianTrace != "bvh") fail("--gaussian-trace must be tiles or bvh");
   const bool tiledTrace = gaussianTrace == "tiles";
+  const std::string waterTrace = args.get("water-trace", "grid");
+  if (waterTrace != "grid" && waterTrace != "bvh") fail("--water-trace must be grid or bvh");
   long K = args.getInt("k", defaultK);
   if (K < 1 || K > 64) fail("--k must be between 1 and 64");
   long size = args.getInt("size", 0);
@@ -202,6 +204,7 @@ int runViewer(const cli::Args& args) {
   }
   rs.exactWater = args.has("exact-water");
   rs.tiledTrace = tiledTrace;
+  rs.walkGrid = waterTrace == "grid";
   if (args.has("bake-cells")) {
     long cells = args.getInt("bake-cells", 256);
     if (cells < 1 || cells > 4096) fail("--bake-cells must be between 1 and 4096");
@@ -520,6 +523,10 @@ cli::Command viewerCommand() {
                      "tiles: each 8x8 pixel tile lists the Gaussians its rays can reach and its rays test only those (the same "
                      "image, faster on CPU devices); bvh: a ray-query traversal per ray, as training and refrax render",
                      "tiles"});
+  options.push_back({"water-trace", "KIND",
+                     "grid: the baked water (a height grid) is walked cell by cell; bvh: a ray query per ray through its BVH (the "
+                     "same triangles; a glTF mesh always takes the BVH)",
+                     "grid"});
   options.push_back({"k", "N", "k-buffer size of the Gaussian tracer", "the run's (16)"});
   options.push_back({"sh", "DEGREE", "spherical-harmonics degree (0-3)", "the checkpoint's"});
   options.push_back({"min-transmittance", "T", "stop blending a ray once its transmittance is below T (faster, less exact)", "0.001"});
