@@ -11,7 +11,7 @@
 # from one fixed camera looking down at the water.
 #
 # Usage: bench/viewer.sh [--frames N] [--sizes 256,392] [--scenes tiny,medium] [--out FILE]
-#   --frames N     frames per benchmark, warm-up included (default 5)
+#   --frames N     frames per benchmark, warm-up included (default 8)
 #   --sizes S,...  square image sizes (default 256,392)
 #   --scenes ...   which scenes (default tiny,medium)
 #   --out FILE     log (default bench/results/viewer_<device>.log)
@@ -20,7 +20,7 @@ cd "$(dirname "$0")/.."
 REFRAX=${REFRAX:-./build/refrax}
 VIEW=${REFRAX_VIEW:-$(dirname "$REFRAX")/refrax-view}
 
-frames=5
+frames=8
 sizes=256,392
 scenes=tiny,medium
 out=
@@ -53,7 +53,7 @@ log="$work/log"
   echo "# scenes: tiny = refrax train (synth nerfrac-primary-sine tiny) --steps 300 --patch 32 --gaussians 2000;"
   echo "#         medium = same data --steps 30 --gaussians 30000 --no-densify"
   echo "# command: xvfb-run -a refrax-view RUN --size S --frames $frames --benchmark --water W --gaussian-trace T --camera 0,-1.2,0.8,0,0,-0.6"
-  echo "# (first frame = warm-up, not counted); water keep = baked mesh (default), keep --exact-water = subdivided surface;"
+  echo "# (first frame = warm-up, not counted); water keep = baked mesh walked as a height grid (default), keep --exact-water = subdivided surface;"
   echo "# T = tiles (default) or bvh, run back to back so their ratio is measured under the same load"
 } >"$log"
 for scene in ${scenes//,/ }; do
