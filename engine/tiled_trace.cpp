@@ -58,6 +58,23 @@ TileCandidates createTileCandidates(Context& ctx, uint32_t width, uint32_t heigh
   return t;
 }
 
+bool reshapeTileCandidates(TileCandidates& t, uint32_t width, uint32_t height) {
+  if (width == 0 || height == 0) fail("tiled trace: the image has no pixels");
+  uint32_t tilesX = groupsFor(width, kTileSide), tilesY = groupsFor(height, kTileSide);
+  uint32_t blocksX = groupsFor(width, kBlockSide), blocksY = groupsFor(height, kBlockSide);
+  VkDeviceSize tiles = VkDeviceSize(tilesX) * tilesY, blocks = VkDeviceSize(blocksX) * blocksY;
+  if (t.counts.size < tiles * 4 || t.candidates.size < tiles * t.capacity * 4 || t.blockCounts.size < blocks * 4 ||
+      t.blockLists.size < blocks * t.blockCapacity * 4)
+    return false;
+  t.width = width;
+  t.height = height;
+  t.tilesX = tilesX;
+  t.tilesY = tilesY;
+  t.blocksX = blocksX;
+  t.blocksY = blocksY;
+  return true;
+}
+
 void cmdCullTiles(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const Buffer& rays, TileCandidates& tiles) {
   CullPush blocks{tiles.width, tiles.height, proxies.count, tiles.blockCapacity, kBlockSide, 0, 0, 0};
   cmdDispatch(cb, cullPipeline(tracer),

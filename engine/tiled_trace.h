@@ -36,6 +36,10 @@ struct TileCandidates {
   Buffer blockCounts, blockLists;  // the same per 32x32 block
 };
 TileCandidates createTileCandidates(Context& ctx, uint32_t width, uint32_t height, uint32_t capacity = kDefaultTileCapacity);
+// Points `tiles` at a width x height image when its buffers hold that many tiles and blocks
+// (a viewer whose resolution scale changes from frame to frame keeps its buffers); false,
+// and nothing changed, when they are too small (create new ones).
+bool reshapeTileCandidates(TileCandidates& tiles, uint32_t width, uint32_t height);
 
 // Pass 1 over `rays` (width * height, row-major) and the proxies' bounding spheres.
 void cmdCullTiles(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianProxies& proxies, const Buffer& rays, TileCandidates& tiles);

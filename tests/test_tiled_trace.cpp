@@ -10,6 +10,7 @@
 #include "engine/shared_math.h"
 #include "engine/surface_math.h"
 #include "engine/tiled_trace.h"
+#include "engine/vk_commands.h"
 #include "engine/water_removal.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"
@@ -249,6 +250,29 @@ GPU_TEST_CASE("tiled forward: tiles or blocks whose list overflows traverse the 
     if (capacity == blockCase) CHECK(small.blocksOverflowed > 0);
     checkSameAsBvh(overflowing, reference);
   }
+}
+
+GPU_TEST_CASE("tiled forward: tile lists reshaped for a smaller image give that image's result") {
+  GaussianSet set = randomGaussians(rng, 800, testGaussianOptions());
+  DeviceGaussians dev = uploadGaussians(ctx, set);
+  GaussianTracer tracer = createGaussianTracer(ctx);
+  GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
+  TileCandidates tiles = createTileCandidates(ctx, 70, 45);
+  CHECK_FALSE(reshapeTileCandidates(tiles, 140, 45));  // more tiles than the buffers hold
+  CHECK(tiles.width == 70);
+  const uint32_t width = 37, height = 29;  // 5x4 tiles, 2x1 blocks: other strides than 70x45's
+  REQUIRE(reshapeTileCandidates(tiles, width, height));
+  CHECK(tiles.tilesX == 5);
+  CHECK(tiles.blocksX == 2);
+  std::vector<GpuRay> rays = cameraImage(rng, int(width), int(height));
+  Buffer rayBuf = createBufferFrom(ctx, rays);
+  Buffer results = createBuffer(ctx, rays.size() * sizeof(GpuTraceResult));
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdCullTiles(cb, tracer, proxies, rayBuf, tiles);
+    cmdBarrier(cb);
+    cmdTraceForwardTiled(cb, tracer, proxies, rayBuf, results, tiles);
+  });
+  checkSameAsBvh(downloadVector<GpuTraceResult>(ctx, results, rays.size()), traceGaussians(ctx, tracer, proxies, dev, rays));
 }
 
 GPU_TEST_CASE("tiled forward refuses rays that are not the stated image, and empty images") {

@@ -82,7 +82,8 @@ void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, cons
   Context& ctx = *r.ctx;
   uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
   ensureCapacity(r, n);
-  if (s.tiledTrace && (!r.tiles || r.tiles->width != uint32_t(camera.width) || r.tiles->height != uint32_t(camera.height))) {
+  // tile lists kept while the image shrinks or grows within them (the automatic resolution scale)
+  if (s.tiledTrace && !(r.tiles && reshapeTileCandidates(*r.tiles, uint32_t(camera.width), uint32_t(camera.height)))) {
     vkDeviceWaitIdle(ctx.device);
     r.tiles.reset();
     r.tiles.emplace(createTileCandidates(ctx, uint32_t(camera.width), uint32_t(camera.height)));
