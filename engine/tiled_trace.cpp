@@ -36,42 +36,48 @@ const ComputePipeline& tiledPipeline(GaussianTracer& t, ProxyKind kind) {
 
 }  // namespace
 
-TileCandidates createTileCandidates(Context& ctx, uint32_t width, uint32_t height, uint32_t capacity) {
+namespace {
+
+// Tiles and blocks of a width x height image.
+struct TileGrid {
+  uint32_t tilesX, tilesY, blocksX, blocksY;
+  VkDeviceSize tiles() const { return VkDeviceSize(tilesX) * tilesY; }
+  VkDeviceSize blocks() const { return VkDeviceSize(blocksX) * blocksY; }
+};
+TileGrid tileGridOf(uint32_t width, uint32_t height) {
   if (width == 0 || height == 0) fail("tiled trace: the image has no pixels");
+  return {groupsFor(width, kTileSide), groupsFor(height, kTileSide), groupsFor(width, kBlockSide), groupsFor(height, kBlockSide)};
+}
+
+}  // namespace
+
+TileCandidates createTileCandidates(Context& ctx, uint32_t width, uint32_t height, uint32_t capacity) {
+  TileGrid g = tileGridOf(width, height);
   if (capacity == 0) fail("tiled trace: a tile's list needs room for at least one candidate");
   TileCandidates t;
-  t.width = width;
-  t.height = height;
   t.capacity = capacity;
-  t.tilesX = groupsFor(width, kTileSide);
-  t.tilesY = groupsFor(height, kTileSide);
-  t.blocksX = groupsFor(width, kBlockSide);
-  t.blocksY = groupsFor(height, kBlockSide);
   t.blockCapacity = capacity * kBlockCapacityFactor;
-  VkDeviceSize tiles = VkDeviceSize(t.tilesX) * t.tilesY, blocks = VkDeviceSize(t.blocksX) * t.blocksY;
-  if (tiles * capacity > (VkDeviceSize(1) << 32) || blocks * t.blockCapacity > (VkDeviceSize(1) << 32))
+  if (g.tiles() * capacity > (VkDeviceSize(1) << 32) || g.blocks() * t.blockCapacity > (VkDeviceSize(1) << 32))
     fail("tiled trace: the candidate lists would exceed 2^32 entries (lower the capacity)");
-  t.counts = createBuffer(ctx, tiles * 4);
-  t.candidates = createBuffer(ctx, tiles * capacity * 4);
-  t.blockCounts = createBuffer(ctx, blocks * 4);
-  t.blockLists = createBuffer(ctx, blocks * t.blockCapacity * 4);
+  t.counts = createBuffer(ctx, g.tiles() * 4);
+  t.candidates = createBuffer(ctx, g.tiles() * capacity * 4);
+  t.blockCounts = createBuffer(ctx, g.blocks() * 4);
+  t.blockLists = createBuffer(ctx, g.blocks() * t.blockCapacity * 4);
+  reshapeTileCandidates(t, width, height);  // the buffers fit: sets the shape
   return t;
 }
 
 bool reshapeTileCandidates(TileCandidates& t, uint32_t width, uint32_t height) {
-  if (width == 0 || height == 0) fail("tiled trace: the image has no pixels");
-  uint32_t tilesX = groupsFor(width, kTileSide), tilesY = groupsFor(height, kTileSide);
-  uint32_t blocksX = groupsFor(width, kBlockSide), blocksY = groupsFor(height, kBlockSide);
-  VkDeviceSize tiles = VkDeviceSize(tilesX) * tilesY, blocks = VkDeviceSize(blocksX) * blocksY;
-  if (t.counts.size < tiles * 4 || t.candidates.size < tiles * t.capacity * 4 || t.blockCounts.size < blocks * 4 ||
-      t.blockLists.size < blocks * t.blockCapacity * 4)
+  TileGrid g = tileGridOf(width, height);
+  if (t.counts.size < g.tiles() * 4 || t.candidates.size < g.tiles() * t.capacity * 4 || t.blockCounts.size < g.blocks() * 4 ||
+      t.blockLists.size < g.blocks() * t.blockCapacity * 4)
     return false;
   t.width = width;
   t.height = height;
-  t.tilesX = tilesX;
-  t.tilesY = tilesY;
-  t.blocksX = blocksX;
-  t.blocksY = blocksY;
+  t.tilesX = g.tilesX;
+  t.tilesY = g.tilesY;
+  t.blocksX = g.blocksX;
+  t.blocksY = g.blocksY;
   return true;
 }
 
