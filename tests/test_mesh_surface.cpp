@@ -55,13 +55,14 @@ ref::MeshRefractReport compareWithReference(Context& ctx, const SurfaceMesh& mes
 }
 
 // Random rays (meshTestRays): every kind of outcome occurs, and edge cases stay rare (so
-// the comparison is not vacuous).
+// the comparison is not vacuous). Hits: the grids take about half the rays; the triangle soup
+// took 1,002-1,320 of 3,000 over 120 seeds (a bar of a third failed about one seed in 200).
 ref::MeshRefractReport checkMesh(Context& ctx, const SurfaceMesh& mesh, const std::vector<GpuRay>& rays, float ior,
                                  const SurfaceMesh* referenceMesh = nullptr, const HeightGridLayout* grid = nullptr) {
   ref::MeshRefractReport rep = compareWithReference(ctx, mesh, rays, ior, referenceMesh, grid);
   CHECK(rep.invalid >= 7);  // the 7 made invalid, and short rays whose tmax fell below their tmin
   CHECK(rep.ambiguous * 50 <= rep.rays);
-  CHECK(rep.hits * 3 >= rep.rays);
+  CHECK(rep.hits * 4 >= rep.rays);
   CHECK(rep.misses * 20 >= rep.rays);
   return rep;
 }
