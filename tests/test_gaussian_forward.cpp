@@ -7,6 +7,7 @@
 #include "engine/water_removal.h"
 #include "engine/gaussian_math.h"
 #include "engine/gaussian_trace.h"
+#include "engine/reference/gaussian_trace_ref.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"
 
@@ -123,6 +124,18 @@ GPU_TEST_CASE("Gaussian forward: the same image for any input order, any K and e
   auto base = render(set, 16, ProxyKind::AabbBlas);
   auto variants = {render(shuffled, 16, ProxyKind::AabbBlas), render(set, 1, ProxyKind::AabbBlas), render(set, 16, ProxyKind::InstancedUnitBox)};
   const char* names[] = {"shuffled input", "K = 1", "instanced proxies"};
+  // Two hits whose t differ by about float rounding may blend in either order (the float t
+  // values tie or flip, and a tie goes by id, which the shuffle changes): such rays, where
+  // the reference's margin is below 1e-5 (TraceResultD::margin), are left out of the colour
+  // check and counted. Seed 4067958454: ray 911, two of its 45 hits 1.6e-8 apart relative,
+  // differs by 2.5e-4 in red.
+  std::vector<double> params = ref::toDouble(set);
+  ref::TraceOptionsD optD;
+  for (int c = 0; c < 3; c++) optD.background[c] = opt.background[c];
+  std::vector<bool> nearTie(rays.size());
+  size_t nearTies = 0;
+  for (size_t i = 0; i < rays.size(); i++) nearTies += nearTie[i] = ref::traceRayRef(params, ref::toRayD(rays[i]), optD).margin < 1e-5;
+  CHECK(nearTies <= rays.size() / 50);
   int v = 0;
   size_t hitsTotal = 0;
   for (auto& r : base) hitsTotal += r.hits;
@@ -131,14 +144,14 @@ GPU_TEST_CASE("Gaussian forward: the same image for any input order, any K and e
     double worst = 0;
     size_t hitDiff = 0;
     for (size_t i = 0; i < rays.size(); i++) {
+      hitDiff += other[i].hits != base[i].hits;
+      if (nearTie[i]) continue;
       for (int c = 0; c < 3; c++) worst = std::max(worst, double(std::fabs(other[i].rgb[c] - base[i].rgb[c])));
       worst = std::max(worst, double(std::fabs(other[i].opacity - base[i].opacity)));
-      hitDiff += other[i].hits != base[i].hits;
     }
-    INFO(names[v]);
-    // the same hits in the same order: equal up to float summation in the SH (order of ids).
-    // Rarely (seed 1361809585: one ray of 1000, 32 hits over 2 full k-buffer rounds) a shuffled
-    // input differs by 3e-5; an ordering bug shows as ~1e-2. Tracked on the tracer issue.
+    INFO(std::string(names[v]));
+    // the same hits in the same order: equal up to float summation in the SH (order of ids);
+    // an ordering bug shows as ~1e-2.
     CHECK(hitDiff == 0);
     CHECK(worst <= 1e-4);
     v++;
