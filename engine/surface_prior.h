@@ -1,4 +1,7 @@
 #pragma once
+// Priors on the learned water, added to the image loss's gradient at the coarse grid's
+// vertices before the height field's backward.
+//
 // --surface-smoothness: a weak prior on the learned water's slope,
 //   E = lambda x mean over the coarse grid's edges of ((h_a - h_b) / spacing)^2,
 // whose gradient joins the image loss's at the grid vertices before the height field's
@@ -24,5 +27,18 @@ struct GridLayout {
 // Returns E for the heights and, when grad is not null, adds dE/dheight to grad (same layout,
 // sized like heights). Slots outside the grid are neither read nor written.
 double slopePrior(const std::vector<float>& heights, const GridLayout& grid, double lambda, std::vector<float>* grad);
+
+// --level-prior: E = lambda x the weighted mean square of the seen water's tilt and bowl:
+// fit the heights by {1, x, y, x^2, xy, y^2} in weighted least squares over the grid vertices
+// of weight > 0 (weights sized like heights; the trainer weighs a vertex by the training views
+// that see it); E is the fit less its constant, squared, weighted-averaged. Why: with
+// near-vertical views a tilt or a bowl of the water acts as a prism or a lens whose shift and
+// magnification the Gaussians absorb, so the images barely hold them, and on the strong-wave
+// scene a 1-1.6 cm bowl grew in every run, even started at the true surface (issue 6).
+// --anchor-mean-height holds the constant; this holds the next two orders. Returns E and, when
+// grad is not null, adds dE/dheight to it (0 where the weight is 0 and outside the grid).
+// Directions the weights cannot tell apart (a seen region on one line has no y) are left out.
+double levelPrior(const std::vector<float>& heights, const GridLayout& grid, const std::vector<double>& weights, double lambda,
+                  std::vector<float>* grad);
 
 }  // namespace refrax

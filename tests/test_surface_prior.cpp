@@ -1,6 +1,7 @@
 // The slope prior of --surface-smoothness (engine/surface_prior.h): its value on a tilted
 // plane, its gradient against central differences on random heights (a bordered grid as the
-// water surface stores it, and a plain one), and its refusals.
+// water surface stores it, and a plain one), and its refusals; the level prior of --level-prior
+// likewise, on exact quadratics, random heights and weights, and degenerate seen regions.
 #include <cmath>
 #include <random>
 #include <vector>
@@ -77,4 +78,111 @@ TEST_CASE("slope prior: a grid that does not fit the heights, or a gradient of a
   CHECK_THROWS_AS(slopePrior(h, GridLayout{0, 3, 5, 0, 1, 1}, 1.0, nullptr), Error);
   CHECK_THROWS_AS(slopePrior(h, GridLayout{4, 3, 5, 0, 1, 1}, 1.0, &wrong), Error);
   CHECK_NOTHROW(slopePrior(h, GridLayout{4, 3, 5, 0, 1, 1}, 1.0, nullptr));
+}
+
+namespace {
+
+// Random weights on a bordered grid: 0 on the border ring, on about a quarter of the grid's
+// vertices and on a 3-vertex-wide strip (unseen water), else 1-8 views.
+std::vector<double> randomWeights(const GridLayout& g, size_t n, std::mt19937& rng) {
+  std::vector<double> w(n, 0.0);
+  std::uniform_int_distribution<int> views(0, 8);
+  for (uint32_t j = 0; j <= g.cellsY; j++)
+    for (uint32_t i = 2; i <= g.cellsX; i++) {  // columns 0-1 and the ring unseen
+      int v = views(rng);
+      w[g.first + j * g.rowLength + i] = v <= 2 ? 0.0 : double(v);
+    }
+  return w;
+}
+
+double weightedVariance(const std::vector<float>& h, const std::vector<double>& w) {
+  double sw = 0, m = 0, v = 0;
+  for (size_t k = 0; k < h.size(); k++) sw += w[k], m += w[k] * h[k];
+  m /= sw;
+  for (size_t k = 0; k < h.size(); k++) v += w[k] * (h[k] - m) * (h[k] - m);
+  return v / sw;
+}
+
+}  // namespace
+
+TEST_CASE("level prior: a quadratic surface is all tilt and bowl (E = lambda x its weighted variance), a constant is none") {
+  std::mt19937 rng(20261125u);
+  for (GridLayout g : {bordered(9, 7, 0.1, 0.15), bordered(12, 5, 0.2, 0.05)}) {
+    const size_t n = slots(g);
+    std::vector<double> w = randomWeights(g, n, rng);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    const double c[6] = {U(rng), U(rng), U(rng), U(rng), U(rng), U(rng)};
+    std::vector<float> h(n, 0.0f);
+    for (uint32_t j = 0; j <= g.cellsY; j++)
+      for (uint32_t i = 0; i <= g.cellsX; i++) {
+        double x = i * g.spacingX - 0.4, y = j * g.spacingY + 0.3;  // any origin: the span does not move
+        h[g.first + j * g.rowLength + i] = float(c[0] + c[1] * x + c[2] * y + c[3] * x * x + c[4] * x * y + c[5] * y * y);
+      }
+    const double lambda = 2.5;
+    INFO("cells " << g.cellsX << " x " << g.cellsY);
+    CHECK(levelPrior(h, g, w, lambda, nullptr) == doctest::Approx(lambda * weightedVariance(h, w)).epsilon(1e-6));
+    std::vector<float> flat(n, 0.37f);
+    CHECK(levelPrior(flat, g, w, lambda, nullptr) == doctest::Approx(0.0).scale(1e-12));
+    // The sine across the seen region has some tilt and bowl, but far less than its variance.
+    std::vector<float> wave(n, 0.0f);
+    for (uint32_t j = 0; j <= g.cellsY; j++)
+      for (uint32_t i = 0; i <= g.cellsX; i++) wave[g.first + j * g.rowLength + i] = float(std::sin(7.0 * i + 5.0 * j));
+    const double e = levelPrior(wave, g, w, 1.0, nullptr);
+    CHECK(e > 0);
+    CHECK(e < 0.2 * weightedVariance(wave, w));
+  }
+}
+
+TEST_CASE("level prior: the gradient matches central differences on random heights and weights; unseen slots get none") {
+  std::mt19937 rng(4242u);
+  std::normal_distribution<float> N(0.0f, 0.05f);
+  for (int trial = 0; trial < 3; trial++) {
+    GridLayout g = trial == 2 ? GridLayout{7, 6, 8, 0, 0.3, 0.2} : bordered(9 + trial, 7, 0.1, 0.15);
+    const size_t n = g.first ? slots(g) : g.rowLength * (g.cellsY + 1);
+    std::vector<double> w = randomWeights(g, n, rng);
+    std::vector<float> h(n);
+    for (float& v : h) v = N(rng);
+    const double lambda = 3.7;
+    std::vector<float> grad(n, 0.0f);
+    grad[1] = -2.0f;  // added to, not overwritten
+    CHECK(levelPrior(h, g, w, lambda, &grad) > 0);
+    double worst = 0, largest = 0;
+    for (size_t k = 0; k < n; k++) {
+      const float step = 1.0f / 64.0f;  // E is quadratic in the heights: central differences are exact up to rounding
+      std::vector<float> up(h), down(h);
+      up[k] += step;
+      down[k] -= step;
+      double fd = (levelPrior(up, g, w, lambda, nullptr) - levelPrior(down, g, w, lambda, nullptr)) / double(up[k] - down[k]);
+      double got = grad[k] - (k == 1 ? -2.0 : 0.0);
+      worst = std::max(worst, std::abs(got - fd));
+      largest = std::max(largest, std::abs(fd));
+      if (w[k] == 0) CHECK(got == 0.0);
+    }
+    INFO("trial " << trial << ": worst " << worst << " of " << largest);
+    CHECK(largest > 0);
+    CHECK(worst < 1e-5 * largest);
+  }
+}
+
+TEST_CASE("level prior: a seen region on one row keeps only its x terms, none seen is 0, bad weights are refused") {
+  GridLayout g = bordered(8, 6, 0.1, 0.1);
+  const size_t n = slots(g);
+  std::vector<double> w(n, 0.0);
+  for (uint32_t i = 0; i <= g.cellsX; i++) w[g.first + 3 * g.rowLength + i] = 1.0;  // row 3 only
+  std::vector<float> h(n, 0.0f);
+  for (uint32_t j = 0; j <= g.cellsY; j++)
+    for (uint32_t i = 0; i <= g.cellsX; i++) h[g.first + j * g.rowLength + i] = float(0.02 * i + 0.5 * j);  // y tilt unseen
+  std::vector<float> grad(n, 0.0f);
+  const double e = levelPrior(h, g, w, 1.0, &grad);
+  CHECK(std::isfinite(e));
+  CHECK(e == doctest::Approx(weightedVariance(h, w)).epsilon(1e-6));  // the x tilt along the row
+  for (size_t k = 0; k < n; k++) CHECK(std::isfinite(grad[k]));
+  CHECK(levelPrior(h, g, std::vector<double>(n, 0.0), 1.0, nullptr) == 0.0);
+  CHECK_THROWS_AS(levelPrior(h, g, std::vector<double>(n - 1, 1.0), 1.0, nullptr), Error);
+  std::vector<double> bad(w);
+  bad[g.first + 2] = -1.0;
+  CHECK_THROWS_AS(levelPrior(h, g, bad, 1.0, nullptr), Error);
+  bad[g.first + 2] = std::nan("");
+  CHECK_THROWS_AS(levelPrior(h, g, bad, 1.0, nullptr), Error);
+  CHECK_THROWS_AS(levelPrior(h, GridLayout{8, 6, 5, 0, 1, 1}, w, 1.0, nullptr), Error);
 }

@@ -57,6 +57,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.mlpInitRange = a.getDouble("mlp-init-range", 1e-3);
   c.surfaceLearningRate = a.getDouble("surface-lr", 5e-4);
   c.surfaceSmoothness = a.getDouble("surface-smoothness", 0.0);
+  c.levelPrior = a.getDouble("level-prior", 0.0);
   c.gridCells = positiveCount(a, "grid-cells", 64, 1, 4096);
   c.subdivisionLevels = positiveCount(a, "subdivision", 2, 0, 6);
   c.patch = positiveCount(a, "patch", 0, 0, 16384);
@@ -167,6 +168,7 @@ std::vector<cli::Option> trainOptions() {
       {"surface-freeze", "N", "surface frozen for the first N steps", "1000 x steps/15000"},
       {"face-normals-until", "N", "flat face normals until step N, then interpolated", "7500 x steps/15000"},
       {"surface-smoothness", "X", "weight of a slope prior on the water, X mean((h_a - h_b) / spacing)^2 over the coarse grid's edges: damps a fast surface's runaway (0.1 left 2 of 9 tiny presets running away, 4 without; README)", "0"},
+      {"level-prior", "X", "weight of a prior holding the seen water level: X times the mean square of its tilt and bowl (the {x, y, x^2, xy, y^2} part of a least-squares fit, each vertex weighted by the training views that see it): straight-down views barely see them (README)", "0"},
       {"anchor-mean-height", "", "keep the learned water's mean height (each vertex weighted by the training views that see it) at the given water height: straight-down views barely see a uniform shift", ""},
       {"octaves-open-until", "N", "every encoding octave open from step N (the window opens linearly from --surface-freeze)", "7500 x steps/15000"},
       {"sh-interval", "N", "SH degree +1 every N steps", "1000 x steps/15000"},

@@ -80,6 +80,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(std::isfinite(c.mlpInitRange) && c.mlpInitRange >= 0, "--mlp-init-range must be >= 0");
   need(std::isfinite(c.surfaceLearningRate) && c.surfaceLearningRate > 0 && c.surfaceLearningRate < 1, "--surface-lr must be in (0, 1)");
   need(std::isfinite(c.surfaceSmoothness) && c.surfaceSmoothness >= 0, "--surface-smoothness must be finite and >= 0");
+  need(std::isfinite(c.levelPrior) && c.levelPrior >= 0, "--level-prior must be finite and >= 0");
   need(c.gridCells >= 1 && c.gridCells <= 4096, "--grid-cells must be 1..4096");
   need(c.subdivisionLevels <= 6, "--subdivision must be 0..6");
   need(std::isfinite(c.ior) && c.ior >= 1 && c.ior < 4, "the IOR must be in [1, 4)");
@@ -134,6 +135,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["mlp_init_range"] = c.mlpInitRange;
   j["surface_lr"] = c.surfaceLearningRate;
   j["surface_smoothness"] = c.surfaceSmoothness;
+  j["level_prior"] = c.levelPrior;
   j["grid_cells"] = c.gridCells;
   j["subdivision_levels"] = c.subdivisionLevels;
   const ScheduleSteps& k = c.schedule;
@@ -201,6 +203,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.mlpInitRange = j.at("mlp_init_range").get<double>();
     c.surfaceLearningRate = j.value("surface_lr", 5e-4);  // runs written before the option: the reference
     c.surfaceSmoothness = j.value("surface_smoothness", 0.0);  // runs written before the option: no prior
+    c.levelPrior = j.value("level_prior", 0.0);                // likewise
     c.gridCells = j.at("grid_cells").get<uint32_t>();
     c.subdivisionLevels = j.at("subdivision_levels").get<uint32_t>();
     const auto& s = j.at("schedule");

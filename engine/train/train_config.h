@@ -85,6 +85,9 @@ struct TrainConfig {
   // Weight of the slope prior (engine/surface_prior.h) added to the loss while the surface
   // learns; 0 (the reference): none.
   double surfaceSmoothness = 0;
+  // Weight of the level prior (engine/surface_prior.h: the seen water's tilt and bowl) added
+  // to the loss while the height field learns; 0 (the reference): none.
+  double levelPrior = 0;
   uint32_t gridCells = 64, subdivisionLevels = 2;
 
   // Schedule and its resolved values.

@@ -251,9 +251,9 @@ void anchorMeanHeight(TrainSession& s) {
 
 namespace {
 
-// --surface-smoothness: the slope prior's gradient at the coarse grid's vertices (of the
-// surface this step traced) into s.priorGrad, for the height field's backward; returns E.
-double uploadSlopePriorGradient(TrainSession& s) {
+// The priors' gradient (--surface-smoothness, --level-prior) at the coarse grid's vertices (of
+// the surface this step traced) into s.priorGrad, for the height field's backward; returns E.
+double uploadSurfacePriorGradient(TrainSession& s) {
   WaterSurface& ws = *s.surface;
   const Rect& d = s.config.domain;
   GridLayout g;
@@ -265,7 +265,12 @@ double uploadSlopePriorGradient(TrainSession& s) {
   g.spacingY = (d.yMax - d.yMin) / ws.cellsY;
   std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
   std::vector<float> grad(heights.size(), 0.0f);
-  double energy = slopePrior(heights, g, s.config.surfaceSmoothness, &grad);
+  double energy = 0;
+  if (s.config.surfaceSmoothness > 0) energy += slopePrior(heights, g, s.config.surfaceSmoothness, &grad);
+  if (s.config.levelPrior > 0) {
+    if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = trainingViewWeights(s);
+    energy += levelPrior(heights, g, s.anchorWeights, s.config.levelPrior, &grad);
+  }
   if (s.priorGrad.size < grad.size() * sizeof(float)) s.priorGrad = createBuffer(*s.ctx, grad.size() * sizeof(float));
   upload(*s.ctx, s.priorGrad, grad.data(), grad.size() * sizeof(float));
   return energy;
@@ -381,13 +386,13 @@ StepResult trainStep(TrainSession& s) {
   // Backward: Gaussians, then the surface and its parameters.
   fillBuffer(ctx, s.grads, 0);
   fillBuffer(ctx, s.stats, 0);
-  const bool slopePriorOn = surfaceLearns && s.height && c.surfaceSmoothness > 0;
-  const double priorEnergy = slopePriorOn ? uploadSlopePriorGradient(s) : 0.0;
+  const bool priorOn = surfaceLearns && s.height && (c.surfaceSmoothness > 0 || c.levelPrior > 0);
+  const double priorEnergy = priorOn ? uploadSurfacePriorGradient(s) : 0.0;
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     cmdTraceBackward(cb, s.tracer, s.proxies, s.device, traced, s.results, s.dLoss, s.grads, s.stats, s.rayGrads, n, opt);
     if (surfaceLearns && s.height) {
       cmdBackwardSurface(cb, *s.surface, *s.height, s.rays, s.records, s.rayGrads, n, s.heightGrad);
-      if (slopePriorOn) {
+      if (priorOn) {
         heightSource(*s.height, s.heightGrad).accumulateGradients(cb, s.surface->gridPoints, s.priorGrad, s.surface->gridPointCount);
         cmdBarrier(cb);
       }

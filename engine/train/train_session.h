@@ -5,7 +5,7 @@
 //   -> water surface forward (refracted rays; skipped for --no-refraction)
 //   -> Gaussian forward -> 0.8 L1 + 0.2 (1 - SSIM) + 0.007 mean(density^2)
 //   -> Gaussian backward (per-Gaussian gradients, per-ray dL/d(origin, direction))
-//   -> surface backward -> dL/d(height parameters) (+ the slope prior's, --surface-smoothness)
+//   -> surface backward -> dL/d(height parameters) (+ the priors', --surface-smoothness and --level-prior)
 //   -> Adam: the Gaussian table's six groups (engine/train/gaussian_adam.h) and the height
 //      MLP (device Adam, engine/adam.h), or the one height of --flat-water.
 // With REFRAX_TRAIN_TIMING set, each step prints its stages' wall times to stderr.
@@ -81,8 +81,9 @@ struct TrainSession {
   // Densification (engine/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
   // accumulated since the last clone/split, and the schedule derived from config.schedule.
   std::vector<float> densifyStats;
-  // --anchor-mean-height: each coarse grid slot's weight in the anchored mean (computed on
-  // first use from the training cameras; see anchorMeanHeight).
+  // --anchor-mean-height and --level-prior: each coarse grid slot's weight in the anchored
+  // mean and the level fit (computed on first use from the training cameras; see
+  // anchorMeanHeight).
   std::vector<double> anchorWeights;
   DensifyConfig densifyConfig;
   DensifyStats lastDensify;
