@@ -133,7 +133,7 @@ TEST_CASE("level prior: a quadratic surface is all tilt and bowl (E = lambda x i
   }
 }
 
-TEST_CASE("level prior: the gradient matches central differences on random heights and weights; unseen slots get none") {
+TEST_CASE("level prior: the gradient matches central differences on random heights and weights, and unseen slots get none") {
   std::mt19937 rng(4242u);
   std::normal_distribution<float> N(0.0f, 0.05f);
   for (int trial = 0; trial < 3; trial++) {
