@@ -232,6 +232,30 @@ TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives conf
   }
 }
 
+// A run's learned water heights (water_height.npy, n x n) on a grid of unit spacing: the
+// surface-prior tests measure them with the priors' own energies.
+struct LearnedHeights {
+  std::vector<float> heights;
+  GridLayout grid;
+};
+LearnedHeights learnedHeights(const fs::path& run) {
+  NpyArray h = readNpy((run / "water_height.npy").string());
+  const uint32_t n = uint32_t(h.shape.at(0));
+  return {std::vector<float>(h.data.begin(), h.data.end()), GridLayout{n - 1, n - 1, n, 0, 1.0, 1.0}};
+}
+
+// A surface prior's weight: config.json keeps the run's value (and 0 for the run without it),
+// and a negative or non-finite weight is refused.
+void checkPriorWeightKeptAndValidated(const fs::path& withPrior, double weight, const fs::path& without, double TrainConfig::*field) {
+  TrainConfig c = trainConfigFromJson(readJson(withPrior / "config.json"), "config.json");
+  CHECK(c.*field == weight);
+  CHECK(trainConfigFromJson(readJson(without / "config.json"), "config.json").*field == 0.0);
+  for (double bad : {-1e-3, double(NAN), double(INFINITY)}) {
+    c.*field = bad;
+    CHECK_THROWS_AS(validateTrainConfig(c), Error);
+  }
+}
+
 TEST_CASE("train: --surface-smoothness pulls a rough surface toward flat, survives config.json, and is validated") {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
@@ -242,24 +266,16 @@ TEST_CASE("train: --surface-smoothness pulls a rough surface toward flat, surviv
   test::trainAndReadMetrics(data, dir / "smooth", options + " --surface-smoothness 100");
   test::trainAndReadMetrics(data, dir / "free", options);
   test::trainAndReadMetrics(data, dir / "start", " --steps 1 --seed 3 --surface-freeze 5 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 --patch 16 --checkpoint-every 0");
-  auto slopeEnergy = [&](const std::string& run) {
-    NpyArray h = readNpy(run + "/water_height.npy");
-    const uint32_t n = uint32_t(h.shape.at(0));
-    std::vector<float> heights(h.data.begin(), h.data.end());
-    return slopePrior(heights, GridLayout{n - 1, n - 1, n, 0, 1.0, 1.0}, 1.0, nullptr);
+  auto slopeEnergy = [&](const fs::path& run) {
+    LearnedHeights h = learnedHeights(run);
+    return slopePrior(h.heights, h.grid, 1.0, nullptr);
   };
   double start = slopeEnergy(dir / "start"), smooth = slopeEnergy(dir / "smooth"), free = slopeEnergy(dir / "free");
   MESSAGE("slope energy (unit spacing) at the start " << start << ", after 8 steps with the prior " << smooth << ", without " << free);
   CHECK(start > 0);
   CHECK(smooth < 0.5 * free);
   CHECK(smooth < 0.5 * start);
-  TrainConfig c = trainConfigFromJson(readJson(dir / "smooth/config.json"), "config.json");
-  CHECK(c.surfaceSmoothness == 100.0);
-  CHECK(trainConfigFromJson(readJson(dir / "free/config.json"), "config.json").surfaceSmoothness == 0.0);
-  for (double bad : {-1e-3, double(NAN), double(INFINITY)}) {
-    c.surfaceSmoothness = bad;
-    CHECK_THROWS_AS(validateTrainConfig(c), Error);
-  }
+  checkPriorWeightKeptAndValidated(dir / "smooth", 100.0, dir / "free", &TrainConfig::surfaceSmoothness);
 }
 
 TEST_CASE("train: --level-prior pulls a tilted, bowled surface level, survives config.json, and is validated") {
@@ -273,28 +289,21 @@ TEST_CASE("train: --level-prior pulls a tilted, bowled surface level, survives c
   test::trainAndReadMetrics(data, dir / "level", learn + " --level-prior 1000");
   test::trainAndReadMetrics(data, dir / "free", learn);
   test::trainAndReadMetrics(data, dir / "start", options + " --steps 1 --surface-freeze 5");
-  auto levelEnergy = [&](const std::string& run) {
+  auto levelEnergy = [&](const fs::path& run) {
     // Over the central half of the domain (each side), which the tiny rig's views all see.
-    NpyArray h = readNpy(run + "/water_height.npy");
-    const uint32_t n = uint32_t(h.shape.at(0));
-    std::vector<float> heights(h.data.begin(), h.data.end());
-    std::vector<double> weights(heights.size(), 0.0);
-    for (uint32_t j = n / 4; j < n - n / 4; j++)
-      for (uint32_t i = n / 4; i < n - n / 4; i++) weights[j * n + i] = 1.0;
-    return levelPrior(heights, GridLayout{n - 1, n - 1, n, 0, 1.0, 1.0}, weights, 1.0, nullptr);
+    LearnedHeights h = learnedHeights(run);
+    const size_t n = h.grid.rowLength;
+    std::vector<double> weights(h.heights.size(), 0.0);
+    for (size_t j = n / 4; j < n - n / 4; j++)
+      for (size_t i = n / 4; i < n - n / 4; i++) weights[j * n + i] = 1.0;
+    return levelPrior(h.heights, h.grid, weights, 1.0, nullptr);
   };
   double start = levelEnergy(dir / "start"), level = levelEnergy(dir / "level"), free = levelEnergy(dir / "free");
   MESSAGE("tilt and bowl mean square at the start " << start << ", after 8 steps with the prior " << level << ", without " << free);
   CHECK(start > 0);
   CHECK(level < 0.5 * free);
   CHECK(level < 0.5 * start);
-  TrainConfig c = trainConfigFromJson(readJson(dir / "level/config.json"), "config.json");
-  CHECK(c.levelPrior == 1000.0);
-  CHECK(trainConfigFromJson(readJson(dir / "free/config.json"), "config.json").levelPrior == 0.0);
-  for (double bad : {-1e-3, double(NAN), double(INFINITY)}) {
-    c.levelPrior = bad;
-    CHECK_THROWS_AS(validateTrainConfig(c), Error);
-  }
+  checkPriorWeightKeptAndValidated(dir / "level", 1000.0, dir / "free", &TrainConfig::levelPrior);
 }
 
 TEST_CASE("train: the height encoding opens coarse to fine between the surface freeze and --octaves-open-until") {
