@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "engine/dataset/dataset.h"
 #include "engine/error.h"
@@ -256,40 +257,37 @@ void checkPriorWeightKeptAndValidated(const fs::path& withPrior, double weight, 
   }
 }
 
+// The surface-prior train tests' comparison: a rough initial field (init range 0.1, slopes,
+// tilt and bowl of a few cm) learning from step 0 at a fast rate for 8 steps, with the prior
+// and without it (same seed, same patches). `energy` is the prior's own measure of a run's
+// heights; it must fall well under the run without the prior and under the start.
+void checkPriorLowersItsEnergy(const std::string& priorFlag, const char* energyName, const std::function<double(const fs::path&)>& energy,
+                               const fs::path& dir) {
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  std::string options = " --seed 3 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 --patch 16 --checkpoint-every 0";
+  std::string learn = options + " --steps 8 --surface-freeze 0 --surface-lr 1e-2";
+  test::trainAndReadMetrics(data, dir / "prior", learn + " " + priorFlag);
+  test::trainAndReadMetrics(data, dir / "free", learn);
+  test::trainAndReadMetrics(data, dir / "start", options + " --steps 1 --surface-freeze 5");
+  double start = energy(dir / "start"), prior = energy(dir / "prior"), free = energy(dir / "free");
+  MESSAGE(energyName << " at the start " << start << ", after 8 steps with " << priorFlag << " " << prior << ", without " << free);
+  CHECK(start > 0);
+  CHECK(prior < 0.5 * free);
+  CHECK(prior < 0.5 * start);
+}
+
 TEST_CASE("train: --surface-smoothness pulls a rough surface toward flat, survives config.json, and is validated") {
   TrainTempDir dir;
-  std::string data = test::tinyDataset("nerfrac-primary-sine");
-  // A rough initial field (init range 0.1) learning from step 0 at a fast rate: with a strong
-  // prior its slope energy falls well under the run without it (same seed, same patches).
-  std::string options = " --steps 8 --seed 3 --surface-freeze 0 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 "
-                        "--patch 16 --checkpoint-every 0 --surface-lr 1e-2";
-  test::trainAndReadMetrics(data, dir / "smooth", options + " --surface-smoothness 100");
-  test::trainAndReadMetrics(data, dir / "free", options);
-  test::trainAndReadMetrics(data, dir / "start", " --steps 1 --seed 3 --surface-freeze 5 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 --patch 16 --checkpoint-every 0");
-  auto slopeEnergy = [&](const fs::path& run) {
+  checkPriorLowersItsEnergy("--surface-smoothness 100", "slope energy (unit spacing)", [](const fs::path& run) {
     LearnedHeights h = learnedHeights(run);
     return slopePrior(h.heights, h.grid, 1.0, nullptr);
-  };
-  double start = slopeEnergy(dir / "start"), smooth = slopeEnergy(dir / "smooth"), free = slopeEnergy(dir / "free");
-  MESSAGE("slope energy (unit spacing) at the start " << start << ", after 8 steps with the prior " << smooth << ", without " << free);
-  CHECK(start > 0);
-  CHECK(smooth < 0.5 * free);
-  CHECK(smooth < 0.5 * start);
-  checkPriorWeightKeptAndValidated(dir / "smooth", 100.0, dir / "free", &TrainConfig::surfaceSmoothness);
+  }, dir.path);
+  checkPriorWeightKeptAndValidated(dir / "prior", 100.0, dir / "free", &TrainConfig::surfaceSmoothness);
 }
 
 TEST_CASE("train: --level-prior pulls a tilted, bowled surface level, survives config.json, and is validated") {
   TrainTempDir dir;
-  std::string data = test::tinyDataset("nerfrac-primary-sine");
-  // A rough initial field (init range 0.1, whose tilt and bowl are a few cm) learning from
-  // step 0 at a fast rate: with a strong prior the seen water's tilt and bowl fall well under
-  // the run without it (same seed, same patches) and under the start.
-  std::string options = " --seed 3 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 --patch 16 --checkpoint-every 0";
-  std::string learn = options + " --steps 8 --surface-freeze 0 --surface-lr 1e-2";
-  test::trainAndReadMetrics(data, dir / "level", learn + " --level-prior 1000");
-  test::trainAndReadMetrics(data, dir / "free", learn);
-  test::trainAndReadMetrics(data, dir / "start", options + " --steps 1 --surface-freeze 5");
-  auto levelEnergy = [&](const fs::path& run) {
+  checkPriorLowersItsEnergy("--level-prior 1000", "tilt and bowl mean square", [](const fs::path& run) {
     // Over the central half of the domain (each side), which the tiny rig's views all see.
     LearnedHeights h = learnedHeights(run);
     const size_t n = h.grid.rowLength;
@@ -297,13 +295,8 @@ TEST_CASE("train: --level-prior pulls a tilted, bowled surface level, survives c
     for (size_t j = n / 4; j < n - n / 4; j++)
       for (size_t i = n / 4; i < n - n / 4; i++) weights[j * n + i] = 1.0;
     return levelPrior(h.heights, h.grid, weights, 1.0, nullptr);
-  };
-  double start = levelEnergy(dir / "start"), level = levelEnergy(dir / "level"), free = levelEnergy(dir / "free");
-  MESSAGE("tilt and bowl mean square at the start " << start << ", after 8 steps with the prior " << level << ", without " << free);
-  CHECK(start > 0);
-  CHECK(level < 0.5 * free);
-  CHECK(level < 0.5 * start);
-  checkPriorWeightKeptAndValidated(dir / "level", 1000.0, dir / "free", &TrainConfig::levelPrior);
+  }, dir.path);
+  checkPriorWeightKeptAndValidated(dir / "prior", 1000.0, dir / "free", &TrainConfig::levelPrior);
 }
 
 TEST_CASE("train: the height encoding opens coarse to fine between the surface freeze and --octaves-open-until") {
