@@ -11,6 +11,7 @@
 
 #include "engine/dataset/dataset.h"
 #include "engine/error.h"
+#include "engine/gaussian_math.h"
 #include "engine/height_field.h"
 #include "engine/surface_prior.h"
 #include "engine/io/atomic_file.h"
@@ -176,6 +177,73 @@ GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterr
   CHECK(r.exitCode != 0);
   CHECK(r.output.find("corrupted") != std::string::npos);
   CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+}
+
+GPU_TEST_CASE("train: --restart-gaussians draws the Gaussians afresh at its step, the same after a resume, and is validated") {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  TrainConfig c;
+  c.dataset = data;
+  c.steps = 10;
+  c.initialGaussians = 300;
+  c.patch = 16;
+  c.seed = rng();
+  Dataset d = loadDataset(data, c.datasetOptions);
+  resolveSceneConfig(c, d);
+  c.schedule.gaussianRestart = 6;
+  c.schedule.surfaceFreeze = 0;  // the surface learns from the start, and its fit must survive
+  const float freshLogit = float(std::log(c.initialDensity / (1.0 - c.initialDensity)));
+
+  auto whole = createTrainSession(ctx, c, d);
+  while (whole->step < 5) CHECK(!trainStep(*whole).restarted);
+  saveCheckpoint(*whole, dir / "split");
+  const GaussianSet before = whole->gaussians;
+  std::vector<float> heightWeights = downloadVector<float>(ctx, whole->height->weights, whole->height->parameterCount);
+  StepResult r = trainStep(*whole);
+  REQUIRE(whole->step == 6);
+  CHECK(r.restarted);
+  CHECK(r.gaussians == 300);
+  REQUIRE(whole->gaussians.count() == 300);
+  // Fresh: every density back at its initial value, no Adam moments, schedules from their start.
+  size_t notFresh = 0;
+  for (size_t i = 0; i < 300; i++) notFresh += whole->gaussians.at(i)[f32::kGaussLogitDensity] != freshLogit;
+  CHECK(notFresh == 0);
+  CHECK(std::all_of(whole->gaussianAdam.m.begin(), whole->gaussianAdam.m.end(), [](float x) { return x == 0.0f; }));
+  CHECK(std::all_of(whole->gaussianAdam.v.begin(), whole->gaussianAdam.v.end(), [](float x) { return x == 0.0f; }));
+  for (const auto& g : whole->gaussianAdam.groups) CHECK(g.step == 0);
+  // New positions, not the trained ones with their densities reset.
+  double moved = 0;
+  for (size_t i = 0; i < std::min(before.count(), whole->gaussians.count()); i++)
+    moved += std::abs(whole->gaussians.at(i)[f32::kGaussMean] - before.at(i)[f32::kGaussMean]);
+  CHECK(moved / 300.0 > 0.01);
+  // The surface is kept: step 6 took one more surface update, which is small next to the
+  // field's weights.
+  std::vector<float> after = downloadVector<float>(ctx, whole->height->weights, whole->height->parameterCount);
+  double change = 0, norm = 0;
+  for (size_t i = 0; i < after.size(); i++) change += std::pow(after[i] - heightWeights[i], 2), norm += std::pow(heightWeights[i], 2);
+  CHECK(std::sqrt(change) < 0.05 * std::sqrt(norm));
+
+  // A run resumed before the restart draws the same fresh Gaussians (the RNG is checkpointed)
+  // and goes on to the end.
+  auto resumed = createTrainSession(ctx, c, d);
+  loadCheckpoint(*resumed, latestCheckpoint(dir / "split"));
+  REQUIRE(resumed->step == 5);
+  CHECK(trainStep(*resumed).restarted);
+  CHECK(resumed->gaussians.params == whole->gaussians.params);
+  while (resumed->step < c.steps) CHECK(!trainStep(*resumed).restarted);
+
+  // config.json keeps the step; runs written before the option have none; a step at or past
+  // the last is refused, on the command line too.
+  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").schedule.gaussianRestart == 6);
+  nlohmann::json old = trainConfigToJson(c);
+  old["schedule"].erase("gaussian_restart");
+  CHECK(trainConfigFromJson(old, "test").schedule.gaussianRestart == 0);
+  c.schedule.gaussianRestart = c.steps;
+  CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--restart-gaussians"), Error);
+  test::CliResult cli = test::runCli("train " + data + " -o " + (dir / "late") + " --steps 4 --restart-gaussians 4 --gaussians 100");
+  CHECK(cli.exitCode != 0);
+  CHECK(cli.output.find("--restart-gaussians") != std::string::npos);
+  CHECK(!fs::exists(dir / "late"));
 }
 
 // Runs `refrax train` on a broken copy of the tiny dataset: one clear error naming `expect`,

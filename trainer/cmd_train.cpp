@@ -81,6 +81,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   scheduleOption(a, "lr-steps", c.schedule.lrSteps);
   scheduleOption(a, "prune-every", c.schedule.pruneInterval);
   scheduleOption(a, "prune-large-from", c.schedule.pruneLargeFrom);
+  scheduleOption(a, "restart-gaussians", c.schedule.gaussianRestart);
   c.densify = !a.has("no-densify");
   c.densifyGradThreshold = a.getDouble("densify-grad", 3e-4);
   c.progressEvery = int(positiveCount(a, "progress-every", 50, 1, 100000000));
@@ -183,6 +184,7 @@ std::vector<cli::Option> trainOptions() {
       {"prune-every", "N", "prune low-density Gaussians every N steps (densify-from..densify-until)", "100"},
       {"prune-large-from", "N", "also prune Gaussians larger than 10% of the extent from step N", "3000 x steps/15000"},
       {"lr-steps", "N", "length of the decaying learning-rate schedules", "30000 x steps/15000"},
+      {"restart-gaussians", "N", "draw the Gaussians afresh at step N (as at step 0, with fresh Adam state and schedules), the surface kept: the first Gaussians absorb the distortion of the still-flat water, and fresh ones let it grow toward the true amplitude (README) (0: never)", "0"},
       {"progress-every", "N", "progress line every N steps (stderr)", "50"},
       {"eval-every", "N", "test-split evaluation every N steps (0: at the end only)", "0"},
       {"checkpoint-every", "N", "checkpoint every N steps (0: at the end only)", "500"},

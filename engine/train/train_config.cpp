@@ -53,6 +53,7 @@ void resolveSchedule(TrainConfig& c) {
   scaled(k.lrSteps, 30000, s, 1);
   scaled(k.pruneInterval, 100, 1.0, 1);
   scaled(k.pruneLargeFrom, 3000, s, 0);
+  if (k.gaussianRestart < 0) k.gaussianRestart = 0;  // the reference never restarts
 }
 
 float encodingWindowAt(const TrainConfig& c, int t) {
@@ -91,6 +92,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(std::isfinite(c.densityLossWeight) && c.densityLossWeight >= 0 && c.densityLossWeight <= 1000, "--density-loss must be in [0, 1000]");
   need(c.schedule.shDegreeInterval >= 1, "--sh-interval must be at least 1");
   need(c.schedule.lrSteps >= 1, "--lr-steps must be at least 1");
+  need(c.schedule.gaussianRestart >= 0 && c.schedule.gaussianRestart < c.steps, "--restart-gaussians must be a step before the last (0: never)");
   need(c.progressEvery >= 1, "--progress-every must be at least 1");
   need(c.evalEvery >= 0 && c.checkpointEvery >= 0, "--eval-every and --checkpoint-every must be >= 0");
 }
@@ -145,7 +147,8 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
                    {"density_reset_until", k.densityResetUntil}, {"density_decay_interval", k.densityDecayInterval},
                    {"densify_from", k.densifyFrom},             {"densify_interval", k.densifyInterval},
                    {"densify_until", k.densifyUntil},           {"lr_steps", k.lrSteps},
-                   {"prune_interval", k.pruneInterval},         {"prune_large_from", k.pruneLargeFrom}};
+                   {"prune_interval", k.pruneInterval},         {"prune_large_from", k.pruneLargeFrom},
+                   {"gaussian_restart", k.gaussianRestart}};
   j["densify"] = c.densify;
   j["densify_grad_threshold"] = c.densifyGradThreshold;
   j["density_decay"] = c.densityDecay;
@@ -221,6 +224,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     k.lrSteps = s.at("lr_steps").get<int>();
     k.pruneInterval = s.at("prune_interval").get<int>();
     k.pruneLargeFrom = s.at("prune_large_from").get<int>();
+    k.gaussianRestart = s.value("gaussian_restart", 0);  // runs written before the option: none
     c.densify = j.at("densify").get<bool>();
     c.densifyGradThreshold = j.at("densify_grad_threshold").get<double>();
     c.densityDecay = j.at("density_decay").get<double>();

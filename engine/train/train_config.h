@@ -36,6 +36,7 @@ struct ScheduleSteps {
   int pruneInterval = -1;        // low-density pruning every ...; reference 100 (same from/until)
   int pruneLargeFrom = -1;       // pruning of over-large Gaussians from ...; reference 3,000
   int lrSteps = -1;              // length of the decaying learning-rate schedules; reference 30,000
+  int gaussianRestart = -1;      // Gaussians drawn afresh at this step (0: never, the reference)
 };
 
 struct TrainConfig {

@@ -40,6 +40,7 @@ struct StepResult {
   double psnr = 0;        // of the rendered batch against its target
   uint32_t gaussians = 0;
   uint32_t missed = 0;    // rays that missed the surface domain
+  bool restarted = false; // the Gaussians were drawn afresh after this step (--restart-gaussians)
 };
 
 struct TrainSession {
