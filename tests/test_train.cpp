@@ -77,12 +77,14 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
 // Strong refraction (IOR 1.33, the preset's sine at twice its amplitude: 0.05 m, slope 0.63)
 // at 96 px, where straight rays cannot fake the water: measured with the water known (oracle)
 // 21.5 dB against 15.6 dB for --no-refraction after 3,000 steps of 32 x 32 patches. The joint run uses what short
-// runs need (see --help): three octaves, a faster surface, the anchored mean height.
+// runs need (see --help): three octaves, a faster surface, the anchored mean height, the level
+// prior, and the Gaussians drawn afresh once the surface has learned part of the wave.
 const char* kStrongWaveSynth = "--width 96 --ior 1.33 --wave-amplitude 2";
 const char* kStrongWaveOptions =
     " --steps 3000 --patch 64 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0 --progress-every 500 "
     "--checkpoint-every 0";
-const char* kStrongWaveJoint = " --mlp-coarse-octaves 3 --octaves-open-until 10000000 --surface-lr 3e-3 --surface-freeze 400 --anchor-mean-height";
+const char* kStrongWaveJoint = " --mlp-coarse-octaves 3 --octaves-open-until 10000000 --surface-lr 3e-3 --surface-freeze 400 --anchor-mean-height"
+                               " --level-prior 1000 --restart-gaussians 1200";
 
 struct StrongWaveComparison {
   TrainTempDir dir;
@@ -102,24 +104,26 @@ const StrongWaveComparison& strongWaveComparison() {
 }
 
 // Measured (lavapipe, 3,000 steps of 64 x 64 patches, against --no-refraction with the same
-// seed): +3.02 dB (18.97 vs 15.95) with these settings, seed 1; +2.77 and +2.03 dB with
-// --surface-freeze 200, seeds 1 and 2. Surface RMSE 0.0198-0.0241 against 0.0332 for the flat
-// plane (0.60-0.73x over later runs of seeds 1 and 2: gradient sums are not deterministic, so
-// one seed varies). The PSNR bar leaves about half the smallest measured margin.
+// seed), seeds 1, 2, 3: +2.41, +2.49, +2.04 dB (18.36 vs 15.95, 18.22 vs 15.73, 18.00 vs
+// 15.96); surface RMSE 0.0158, 0.0190, 0.0212 against 0.0332 for the flat plane (0.48-0.64x;
+// without the restart and the prior 0.60-0.77x). Gradient sums are not deterministic, so one
+// seed varies between runs (about +-10% in RMSE). The bars leave about 0.5 dB and 0.06x
+// under the worst seed.
 TEST_CASE("train: with strong refraction the joint model beats straight rays and moves the surface toward the truth" *
           doctest::test_suite("long")) {
   const StrongWaveComparison& c = strongWaveComparison();
-  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 1.0);
-  CHECK(c.refraction["surface_rmse"].get<double>() <= 0.8 * c.refraction["initial_flat_surface_rmse"].get<double>());
+  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 1.5);
+  CHECK(c.refraction["surface_rmse"].get<double>() <= 0.7 * c.refraction["initial_flat_surface_rmse"].get<double>());
   CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
 }
 
 // The paper's claim at CI size: refraction beats straight rays by 3 dB and recovers the
 // surface to half the flat plane's error. NOT MET yet, so skipped until it passes: on the
-// strong-wave data above the gap is +2.0 to +3.0 dB (the known water gives +5.9 dB at 32 x 32
-// patches) and the surface RMSE 0.60-0.73x the flat plane's: the learned wave has the right
-// phase but 40-60% of the true amplitude, and a bowl-and-tilt error of about 1 cm RMS in
-// the seen centre (the low-order shape trades against the Gaussians' depth). Run it with:
+// strong-wave data above the gap is +2.0 to +2.5 dB (the known water gives +5.9 dB at 32 x 32
+// patches) and the surface RMSE 0.48-0.64x the flat plane's (0.46x for seed 1 at 4,500
+// steps): the learned wave has the right phase and 0.6-0.75 of the true amplitude, and the
+// water over the seen centre sinks 2-3 cm, a local drop that near-parallel views trade
+// against the depth of the Gaussians under it. Run it with:
 //   refrax_tests -tc="train: refraction beats*" --no-skip
 TEST_CASE("train: refraction beats straight rays by 3 dB and halves the flat surface error on a tiny NeRFrac-like run" *
           doctest::test_suite("long") * doctest::skip()) {
