@@ -111,6 +111,23 @@ void syncGaussians(TrainSession& s, bool countChanged) {
     updateGaussianProxies(*s.ctx, s.tracer, s.proxies, s.device, false);
 }
 
+namespace {
+
+// The Gaussians drawn uniformly in the box, with fresh Adam moments, learning-rate schedules
+// and densification statistics: at step 0, and again at --restart-gaussians with the surface
+// kept. Why the restart: the first Gaussians fit the views through the still-flat water and
+// absorb most of its distortion as a warped scene, which stalls the surface at about half the
+// true amplitude; fresh Gaussians under a surface that has learned leave the rest of the
+// distortion to it (README, measured on the strong-wave scene).
+void drawGaussians(TrainSession& s) {
+  const TrainConfig& c = s.config;
+  s.gaussians = initialGaussians(s.rng, c.initialGaussians, c.boxMin, c.boxMax, c.initialDensity);
+  s.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.gaussians.count());
+  s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
+}
+
+}  // namespace
+
 std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig& config, Dataset dataset) {
   validateTrainConfig(config);
   auto s = std::make_unique<TrainSession>();
@@ -119,14 +136,12 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   s->dataset = std::move(dataset);
   s->rng.seed(uint32_t(config.seed * 2654435761u + 17u));
 
-  s->gaussians = initialGaussians(s->rng, config.initialGaussians, config.boxMin, config.boxMax, config.initialDensity);
-  s->gaussianAdam = createGaussianAdam(config.extent, config.schedule.lrSteps, s->gaussians.count());
+  drawGaussians(*s);
   s->tracer = createGaussianTracer(ctx, config.kBuffer);
   s->proxyKind = proxyKindFor(config.proxy, ctx.caps);
   s->device = uploadGaussians(ctx, s->gaussians);
   s->proxies = buildGaussianProxies(ctx, s->tracer, s->device, s->gaussians, s->proxyKind, true);
   allocateGaussianBuffers(*s);
-  s->densifyStats.assign(s->gaussians.count() * 2, 0.0f);
   DensifyConfig& dc = s->densifyConfig;
   const ScheduleSteps& k = config.schedule;
   // 3DGS measures "large" against the cameras' spread; cameras close together over a wide
@@ -297,18 +312,6 @@ void applyDensitySchedule(TrainSession& s, int t) {
   }
 }
 
-// --restart-gaussians: the Gaussians drawn afresh, as at step 0, with fresh Adam moments and
-// learning-rate schedules; the surface is kept. Why: the first Gaussians fit the views through
-// the still-flat water and absorb most of its distortion as a warped scene, which stalls the
-// surface at about half the true amplitude; fresh Gaussians under a surface that has learned
-// leave the rest of the distortion to it (README, measured on the strong-wave scene).
-void restartGaussians(TrainSession& s) {
-  const TrainConfig& c = s.config;
-  s.gaussians = initialGaussians(s.rng, c.initialGaussians, c.boxMin, c.boxMax, c.initialDensity);
-  s.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.gaussians.count());
-  s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
-}
-
 }  // namespace
 
 StepResult trainStep(TrainSession& s) {
@@ -461,7 +464,7 @@ StepResult trainStep(TrainSession& s) {
   }
   StepResult r;
   if (t == c.schedule.gaussianRestart) {
-    restartGaussians(s);
+    drawGaussians(s);
     countChanged = r.restarted = true;
   }
   mark("adam");
