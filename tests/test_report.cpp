@@ -156,15 +156,9 @@ TEST_CASE("train: --eval-every records each evaluation with its training seconds
 
 GPU_TEST_CASE("train: --density-loss weighs the density loss, 0 switches it off, and survives config.json") {
   std::string data = test::tinyDataset("nerfrac-primary-sine");
-  TrainConfig base;
-  base.dataset = data;
-  base.steps = 10;
-  base.initialGaussians = 200;
-  base.patch = 16;
+  Dataset d;
+  TrainConfig base = test::sessionConfig(data, 10, 200, 16, rng(), d);
   base.maxShDegree = 0;
-  base.seed = rng();
-  Dataset d = loadDataset(data, base.datasetOptions);
-  resolveSceneConfig(base, d);
   std::map<double, std::vector<double>> after;  // density logits after one step, per weight
   for (double weight : {0.0, 0.007, 50.0}) {
     CAPTURE(weight);

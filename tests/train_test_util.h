@@ -9,7 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/dataset/dataset.h"
 #include "engine/io/json_io.h"
+#include "engine/train/train_run.h"
 #include "tests/gpu_test.h"
 
 namespace refrax::test {
@@ -36,6 +38,21 @@ inline std::string tinyDataset(const std::string& preset, const std::string& opt
   CliResult r = runCli("synth " + preset + " --size tiny " + options + " -o " + dir);
   REQUIRE_MESSAGE(r.exitCode == 0, r.output);
   return made[key] = dir;
+}
+
+// A configuration for driving a TrainSession directly: `steps` steps of `patch` x `patch`
+// patches from `gaussians` initial Gaussians on `data`, resolved against its dataset (loaded
+// into `dataset`) as `refrax train` resolves it. Set schedule fields after this call.
+inline TrainConfig sessionConfig(const std::string& data, int steps, uint32_t gaussians, uint32_t patch, uint64_t seed, Dataset& dataset) {
+  TrainConfig c;
+  c.dataset = data;
+  c.steps = steps;
+  c.initialGaussians = gaussians;
+  c.patch = patch;
+  c.seed = seed;
+  dataset = loadDataset(data, c.datasetOptions);
+  resolveSceneConfig(c, dataset);
+  return c;
 }
 
 inline nlohmann::json trainAndReadMetrics(const std::string& dataset, const std::string& run, const std::string& options) {
