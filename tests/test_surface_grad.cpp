@@ -169,31 +169,56 @@ GPU_TEST_CASE("surface dL/dweights of the MLP match central differences of the d
   hc.width = 32;
   hc.hiddenLayers = 3;
   hc.lastLayerInitRange = 0.1f;  // the default: waves of a few tenths; larger ones send rays past the domain's edge
-  HeightField hf = createHeightField(ctx, hc, rng());
-  std::vector<float> wf = downloadWeights(ctx, hf);
-  std::vector<double> wd(wf.begin(), wf.end());
-  Buffer dW = createBuffer(ctx, hf.parameterCount * 4);
-  fillBuffer(ctx, dW, 0);
-
   WaterSurfaceConfig cfg;
   cfg.gridCells = 12;
   cfg.subdivisionLevels = 2;
   cfg.maxRays = 64;
   WaterSurface ws = createWaterSurface(ctx, cfg);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, hf); });
-  HeightSource hs = heightSource(hf, dW);
-  // Steep rays from above the domain: oblique ones aimed near the border pass it before they
-  // reach a low wave, and would leave too few hits to compare.
-  GradSetup s = traceForGradients(ctx, rng, ws, hs, cfg.maxRays, 0.6f, 0.8f);
+  std::vector<double> wd;
+  auto Hw = [&](const std::vector<double>& w) {
+    return ref::HeightFunction([&hc, &w](double x, double y) { return heightReference(hc, w, x, y); });
+  };
+  ref::SurfaceRef sref;
+
+  // The surface and the rays are drawn again while a lattice point the rays use has a hidden
+  // unit within 1e-5 of its Leaky ReLU kink: there the GPU's float pre-activation (rounded
+  // products and a float encoding whose top octave has arguments near 100) may fall on the
+  // other side of zero than the double one, and a whole row of dH/dweights legitimately
+  // differs (seed 3157844661 drew a unit 1.6e-7 from its kink: a row of layer 0 off by 2e-3
+  // of the scale). Over 41 seeds a setup took 1 to 7 draws (half the draws come that close),
+  // so 32 draws all failing has odds near 2^-32; the comparison below stays exact.
+  const double kinkMargin = 1e-5;
+  auto nearestKink = [&](const GradSetup& g) {
+    double d = INFINITY;
+    for (size_t i : g.hits)
+      for (auto& [k, v] : ref::surfaceBackwardRef(sref, g.rays[i], g.tris[i], test::vec3Of(g.grads[i].dOrigin), test::vec3Of(g.grads[i].dDir))) {
+        glm::dvec2 xy = ref::latticePointRef(sref, k.first, k.second);
+        d = std::min(d, heightReferenceKinkDistance(hc, wd, xy.x, xy.y));
+      }
+    return d;
+  };
+  HeightField hf;
+  GradSetup s;
+  double kink = 0;
+  for (int draw = 0; draw < 32 && kink < kinkMargin; draw++) {
+    hf = createHeightField(ctx, hc, rng());
+    std::vector<float> wf = downloadWeights(ctx, hf);
+    wd.assign(wf.begin(), wf.end());
+    sref = ref::makeSurfaceRef(cfg, Hw(wd));
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, hf); });
+    // Steep rays from above the domain: oblique ones aimed near the border pass it before
+    // they reach a low wave, and would leave too few hits to compare.
+    s = traceForGradients(ctx, rng, ws, heightSource(hf), cfg.maxRays, 0.6f, 0.8f);
+    kink = nearestKink(s);
+  }
+  REQUIRE(kink >= kinkMargin);
   REQUIRE(s.hits.size() > cfg.maxRays / 2);
+  Buffer dW = createBuffer(ctx, hf.parameterCount * 4);
+  fillBuffer(ctx, dW, 0);
   Buffer gb = createBufferFrom(ctx, s.grads);
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBackwardSurface(cb, ws, hf, s.run.rays, s.run.records, gb, cfg.maxRays, dW); });
   std::vector<float> gpu = downloadVector<float>(ctx, dW, hf.parameterCount);
 
-  auto Hw = [&](const std::vector<double>& w) {
-    return ref::HeightFunction([&hc, &w](double x, double y) { return heightReference(hc, w, x, y); });
-  };
-  ref::SurfaceRef sref = ref::makeSurfaceRef(cfg, Hw(wd));
   // the double chain: dL/dz per point (surface reference) times dH/dweights (MLP reference)
   std::vector<double> chain(hf.parameterCount, 0.0), dHdW;
   for (size_t i : s.hits)
