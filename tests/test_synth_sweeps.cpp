@@ -1,5 +1,6 @@
 // refrax synth's sweep options: --tilt (the NeRFrac-like rig turned from the vertical about
-// the pool-floor centre, for camera-tilt sweeps) and --ior (the water's IOR, for IOR sweeps).
+// the pool-floor centre, for camera-tilt sweeps), --rig-spacing (that rig's baseline, for
+// baseline sweeps) and --ior (the water's IOR, for IOR sweeps).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -100,6 +101,42 @@ TEST_CASE("synth: --tilt turns the whole NeRFrac-like rig DEG from the vertical,
   for (size_t i = 0; i < zero.train.size(); i++) CHECK(zero.train[i].cameraToWorld == base.train[i].cameraToWorld);
 }
 
+TEST_CASE("synth: --rig-spacing moves the NeRFrac-like rig's cameras M apart, heights, view axes and intrinsics kept, before --tilt") {
+  std::mt19937 rng(test::freshSeed());
+  const double spacing = std::uniform_real_distribution<double>(0.05, 0.6)(rng);
+  INFO("spacing " << spacing);
+  SynthPreset base = makeSynthPreset("nerfrac-hybrid", SynthSize::Tiny, 1, textureDir());
+  CHECK(base.rigSpacing == 0.2);
+  SynthPreset wide = base;
+  SynthVariation v;
+  v.rigSpacing = spacing;
+  applySynthVariation(wide, v);
+  CHECK(wide.rigSpacing == spacing);
+  CHECK(wide.description.find("rig spacing") != std::string::npos);
+  REQUIRE(wide.train.size() == 8);
+  // The grid again, row-major from (-x, +y) with the centre held out: the centre camera stays.
+  const glm::dvec3 centre = cameraCentre(base.test[0]);
+  CHECK(cameraCentre(wide.test[0]) == centre);
+  CHECK(wide.air[0].cameraToWorld == wide.test[0].cameraToWorld);
+  for (size_t i = 0; i < wide.train.size(); i++) {
+    const int cell = int(i < 4 ? i : i + 1), col = cell % 3, row = cell / 3;
+    const glm::dvec3 o = cameraCentre(wide.train[i]);
+    CHECK(o.x == doctest::Approx(centre.x + (col - 1) * spacing).epsilon(1e-12));
+    CHECK(o.y == doctest::Approx(centre.y + (1 - row) * spacing).epsilon(1e-12));
+    CHECK(o.z == cameraCentre(base.train[i]).z);
+    for (int a = 0; a < 3; a++) CHECK(glm::dvec3(wide.train[i].cameraToWorld[a]) == glm::dvec3(base.train[i].cameraToWorld[a]));
+    CHECK(wide.train[i].fx == base.train[i].fx);
+    CHECK(wide.train[i].cx == base.train[i].cx);
+  }
+  // With a tilt the spacing applies first: the turned rig keeps it between neighbours.
+  SynthPreset both = base;
+  v.tiltDeg = 20;
+  applySynthVariation(both, v);
+  CHECK(glm::length(cameraCentre(both.train[1]) - cameraCentre(both.train[0])) == doctest::Approx(spacing).epsilon(1e-12));
+  CHECK(glm::length(cameraCentre(both.train[3]) - cameraCentre(both.train[0])) == doctest::Approx(spacing).epsilon(1e-12));
+  CHECK(distanceToViewAxis(both.test[0], both.rigPivot) < 1e-12);
+}
+
 TEST_CASE("synth: --ior lands in water.json and changes the images, --tilt reaches the poses, the same seed stays byte-identical") {
   TempDir dir;
   const std::string common = "synth nerfrac-primary-sine --size tiny --width 24 --seed 4 ";
@@ -137,7 +174,7 @@ TEST_CASE("synth: --ior lands in water.json and changes the images, --tilt reach
   CHECK(readJson(dir / "plain/transforms_test.json")["frames"][0]["transform_matrix"][2][2].get<double>() == doctest::Approx(1.0));
 }
 
-TEST_CASE("synth: a bad --tilt or --ior is one clear error and leaves no output") {
+TEST_CASE("synth: a bad --tilt, --rig-spacing or --ior is one clear error and leaves no output") {
   TempDir dir;
   const std::pair<const char*, const char*> cases[] = {
       {"nerfrac-hybrid --tilt 61", "tilt must be 0..60"},
@@ -145,6 +182,10 @@ TEST_CASE("synth: a bad --tilt or --ior is one clear error and leaves no output"
       {"nerfrac-hybrid --tilt nan", "tilt must be 0..60"},
       {"nerfrac-hybrid --tilt steep", "--tilt expects a number"},
       {"desk --tilt 20", "NeRFrac-like presets"},
+      {"nerfrac-hybrid --rig-spacing 0", "rig spacing must be in (0, 0.6] m"},
+      {"nerfrac-hybrid --rig-spacing 0.61", "rig spacing must be in (0, 0.6] m"},
+      {"nerfrac-hybrid --rig-spacing inf", "rig spacing must be in (0, 0.6] m"},
+      {"desk-topdown --rig-spacing 0.3", "NeRFrac-like presets"},
       {"nerfrac-hybrid --ior 1.0", "IOR must be greater than 1 and at most 2"},
       {"nerfrac-hybrid --ior 2.5", "IOR must be greater than 1 and at most 2"},
       {"desk --ior 0", "IOR must be greater than 1 and at most 2"},

@@ -70,6 +70,7 @@ int runSynth(const cli::Args& args) {
   variation.amplitudeScale = args.getDouble("wave-amplitude", 1.0);
   variation.wavelengthScale = args.getDouble("wavelength", 1.0);
   variation.tiltDeg = args.getDouble("tilt", 0.0);
+  if (args.has("rig-spacing")) variation.rigSpacing = args.getDouble("rig-spacing", 0.0);
   if (args.has("ior")) variation.ior = args.getDouble("ior", 0.0);
   synth::applySynthVariation(preset, variation);
   synth::SynthWriteOptions o;
@@ -98,6 +99,7 @@ REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-tr
                  {"width", "N", "image width in pixels (height and field of view follow); default: the size's", ""},
                  {"wave-amplitude", "X", "every wave's amplitude times X (wave-slope sweeps)", "1"},
                  {"wavelength", "X", "every wavelength times X", "1"},
+                 {"rig-spacing", "M", "NeRFrac-like presets: the 3 x 3 rig's cameras M (0..0.6) apart instead of 0.2, same height and view axes (baseline sweeps)", "0.2"},
                  {"tilt", "DEG", "NeRFrac-like presets: the 3 x 3 rig turned rigidly DEG (0..60) from the vertical about the pool-floor centre, which the centre camera keeps looking at (camera-tilt sweeps)", "0"},
                  {"ior", "X", "index of refraction of the water, 1 < X <= 2 (recorded in water.json)", "the preset's (1.1 NeRFrac-like, 1.33 RefracGS-like)"},
                  {"textures", "DIR", "texture folder (also REFRAX_TEXTURES); default: the repository's assets/textures", ""}},

@@ -221,7 +221,8 @@ SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t se
     buildNerfracScene(p, mats, tiny);
     setNerfracWater(p, name, rng);
     int w = tiny ? 64 : 392;
-    auto grid = gridCameras(0, 0, 1.0, 0.2, w, w, 45 * kDeg);
+    p.rigSpacing = 0.2;
+    auto grid = gridCameras(0, 0, 1.0, p.rigSpacing, w, w, 45 * kDeg);
     for (int i = 0; i < 9; i++) (i == 4 ? p.test : p.train).push_back(grid[i]);
     p.air = p.test;  // the water-removal view is the held-out centre view
     p.tiltableRig = true;
@@ -262,6 +263,10 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
   if (!std::isfinite(v.tiltDeg) || v.tiltDeg < 0 || v.tiltDeg > 60) fail("synth: the tilt must be 0..60 degrees from the vertical");
   if (v.tiltDeg != 0 && !p.tiltableRig) fail("synth: --tilt applies to the NeRFrac-like presets (their 3 x 3 downward rig) only");
   if (v.ior && !(std::isfinite(*v.ior) && *v.ior > 1 && *v.ior <= 2)) fail("synth: the IOR must be greater than 1 and at most 2");
+  // Past 0.6 m the corner cameras' views (45 deg wide from 1 m) leave the pool's picture.
+  if (v.rigSpacing && !(std::isfinite(*v.rigSpacing) && *v.rigSpacing > 0 && *v.rigSpacing <= 0.6))
+    fail("synth: the rig spacing must be in (0, 0.6] m");
+  if (v.rigSpacing && !p.tiltableRig) fail("synth: --rig-spacing applies to the NeRFrac-like presets (their 3 x 3 downward rig) only");
   for (auto& w : p.water.waves) {
     w.amplitude *= v.amplitudeScale;
     w.kx /= v.wavelengthScale;
@@ -282,6 +287,21 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
     std::snprintf(what, sizeof what, " (IOR %g instead of %g)", *v.ior, p.ior);
     p.description += what;
     p.ior = *v.ior;
+  }
+  if (v.rigSpacing && *v.rigSpacing != p.rigSpacing) {
+    // Every camera's offset from the rig's centre (the held-out centre view) scaled; the rig
+    // is parallel, so heights and view axes stay.
+    const glm::dvec3 centre = cameraCentre(p.test.front());
+    const double scale = *v.rigSpacing / p.rigSpacing;
+    for (auto* cams : {&p.train, &p.test, &p.air})
+      for (auto& c : *cams) {
+        glm::dvec3 o = cameraCentre(c);
+        c.cameraToWorld[3] = glm::dvec4(centre.x + scale * (o.x - centre.x), centre.y + scale * (o.y - centre.y), o.z, 1.0);
+      }
+    char what[64];
+    std::snprintf(what, sizeof what, " (rig spacing %g m instead of %g)", *v.rigSpacing, p.rigSpacing);
+    p.description += what;
+    p.rigSpacing = *v.rigSpacing;
   }
   if (v.tiltDeg != 0) {
     for (auto* cams : {&p.train, &p.test, &p.air})

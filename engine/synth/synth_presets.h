@@ -31,6 +31,7 @@ struct SynthPreset {
   // through rigPivot, the centre of the pool floor, which its centre camera looks at.
   bool tiltableRig = false;
   glm::dvec3 rigPivot{0.0};
+  double rigSpacing = 0;  // that rig's camera spacing (m); --rig-spacing replaces it
 };
 
 std::vector<std::string> synthPresetNames();
@@ -39,17 +40,20 @@ bool isSynthPreset(const std::string& name);
 // refrax::Error on an unknown name or a missing texture.
 SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t seed, const std::string& textureDir);
 // A preset varied for sweeps and for regimes the defaults do not reach (refrax synth --width,
-// --wave-amplitude, --wavelength, --tilt, --ior): every camera resized to `width` pixels wide
-// (0: kept; the field of view and aspect kept), every wave's amplitude times amplitudeScale
-// and wavelength times wavelengthScale (directions and phases kept), the tiltable rig rotated
-// rigidly by tiltDeg from the vertical about the pool-floor centre (tiltRig), the IOR replaced
+// --wave-amplitude, --wavelength, --rig-spacing, --tilt, --ior): every camera resized to
+// `width` pixels wide (0: kept; the field of view and aspect kept), every wave's amplitude
+// times amplitudeScale and wavelength times wavelengthScale (directions and phases kept), the
+// tiltable rig's cameras moved rigSpacing apart when given (heights and view axes kept), then
+// rotated rigidly by tiltDeg from the vertical about the pool-floor centre, the IOR replaced
 // by `ior` when given. refrax::Error for a scale <= 0 or non-finite, a width outside 8..8192,
-// waves that would reach the scene, a tilt outside 0..60 or on a preset without the rig, a
-// camera that the tilt would put under the wave crests, or an IOR outside (1, 2].
+// waves that would reach the scene, a spacing outside (0, 0.6] m, a tilt outside 0..60, a
+// spacing or a tilt on a preset without the rig, a camera that the tilt would put under the
+// wave crests, or an IOR outside (1, 2].
 struct SynthVariation {
   int width = 0;
   double amplitudeScale = 1, wavelengthScale = 1;
   double tiltDeg = 0;
+  std::optional<double> rigSpacing;
   std::optional<double> ior;
 };
 void applySynthVariation(SynthPreset& preset, const SynthVariation& variation);
