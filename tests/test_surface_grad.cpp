@@ -181,12 +181,12 @@ GPU_TEST_CASE("surface dL/dweights of the MLP match central differences of the d
   ref::SurfaceRef sref;
 
   // The surface and the rays are drawn again while a lattice point the rays use has a hidden
-  // unit within 1e-5 of its Leaky ReLU kink: there the GPU's float pre-activation (rounded
-  // products and a float encoding whose top octave has arguments near 100) may fall on the
-  // other side of zero than the double one, and a whole row of dH/dweights legitimately
-  // differs (seed 3157844661 drew a unit 1.6e-7 from its kink: a row of layer 0 off by 2e-3
-  // of the scale). Over 41 seeds a setup took 1 to 7 draws (half the draws come that close),
-  // so 32 draws all failing has odds near 2^-32; the comparison below stays exact.
+  // unit within 1e-5 of its Leaky ReLU kink: there the GPU's float pre-activation (a sum of
+  // up to 32 rounded products of float features and weights) may fall on the other side of
+  // zero than the double one, and a whole row of dH/dweights legitimately differs (seed
+  // 3157844661 drew a unit 1.6e-7 from its kink: a row of layer 0 off by 2e-3 of the scale).
+  // Over 41 seeds a setup took 1 to 7 draws (half the draws come that close), so 32 draws all
+  // failing has odds near 2^-32; the comparison below stays exact.
   const double kinkMargin = 1e-5;
   auto nearestKink = [&](const GradSetup& g) {
     double d = INFINITY;
