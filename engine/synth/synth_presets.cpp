@@ -263,7 +263,8 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
   if (!std::isfinite(v.tiltDeg) || v.tiltDeg < 0 || v.tiltDeg > 60) fail("synth: the tilt must be 0..60 degrees from the vertical");
   if (v.tiltDeg != 0 && !p.tiltableRig) fail("synth: --tilt applies to the NeRFrac-like presets (their 3 x 3 downward rig) only");
   if (v.ior && !(std::isfinite(*v.ior) && *v.ior > 1 && *v.ior <= 2)) fail("synth: the IOR must be greater than 1 and at most 2");
-  // Past 0.6 m the corner cameras' views (45 deg wide from 1 m) leave the pool's picture.
+  // Each view covers +-0.41 m of the water (45 deg from 1 m up): past 0.6 m apart the outer
+  // views share almost nothing with the held-out centre view.
   if (v.rigSpacing && !(std::isfinite(*v.rigSpacing) && *v.rigSpacing > 0 && *v.rigSpacing <= 0.6))
     fail("synth: the rig spacing must be in (0, 0.6] m");
   if (v.rigSpacing && !p.tiltableRig) fail("synth: --rig-spacing applies to the NeRFrac-like presets (their 3 x 3 downward rig) only");
