@@ -33,11 +33,12 @@ std::vector<double> nearestNeighbourDistances(const std::vector<double>& xyz, do
   return best;
 }
 
-GaussianSet initialGaussians(std::mt19937& rng, size_t count, const double boxMin[3], const double boxMax[3], double density) {
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::vector<double> xyz(count * 3);
-  for (size_t i = 0; i < count; i++)
-    for (int a = 0; a < 3; a++) xyz[3 * i + a] = boxMin[a] + (boxMax[a] - boxMin[a]) * U(rng);
+namespace {
+
+// Gaussians at the given means and colours (in [0, 1]), the rest as DESIGN 1.6 initialises it.
+GaussianSet gaussiansAt(const std::vector<double>& xyz, const std::vector<double>& rgb, const double boxMin[3], const double boxMax[3],
+                        double density) {
+  size_t count = xyz.size() / 3;
   double diagonal = std::sqrt(std::pow(boxMax[0] - boxMin[0], 2) + std::pow(boxMax[1] - boxMin[1], 2) + std::pow(boxMax[2] - boxMin[2], 2));
   std::vector<double> nn = nearestNeighbourDistances(xyz, diagonal > 0 ? diagonal : 1.0);
   GaussianSet set;
@@ -50,10 +51,36 @@ GaussianSet initialGaussians(std::mt19937& rng, size_t count, const double boxMi
     float logScale = float(std::log(std::max(nn[i], 1e-7)));
     for (int a = 0; a < 3; a++) g[f32::kGaussLogScale + a] = logScale;
     g[f32::kGaussLogitDensity] = logit;
-    // DC term: SH0 * c + 0.5 is the colour, drawn uniform in [0, 1].
-    for (int c = 0; c < 3; c++) g[f32::kGaussSH + c] = float((U(rng) - 0.5) / 0.28209479177387814);
+    // DC term: SH0 * c + 0.5 is the colour.
+    for (int c = 0; c < 3; c++) g[f32::kGaussSH + c] = float((rgb[3 * i + c] - 0.5) / 0.28209479177387814);
   }
   return set;
+}
+
+}  // namespace
+
+GaussianSet initialGaussians(std::mt19937& rng, size_t count, const double boxMin[3], const double boxMax[3], double density) {
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<double> xyz(count * 3), rgb(count * 3);
+  for (size_t i = 0; i < count; i++)
+    for (int a = 0; a < 3; a++) xyz[3 * i + a] = boxMin[a] + (boxMax[a] - boxMin[a]) * U(rng);
+  for (double& c : rgb) c = U(rng);  // a random colour, uniform in [0, 1]
+  return gaussiansAt(xyz, rgb, boxMin, boxMax, density);
+}
+
+GaussianSet initialGaussiansOnDepth(std::mt19937& rng, size_t count, const double boxMin[3], const double boxMax[3], double density,
+                                    const DepthMap& depth) {
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<double> xyz(count * 3), rgb(count * 3);
+  for (size_t i = 0; i < count; i++) {
+    double* p = &xyz[3 * i];
+    for (int a = 0; a < 3; a++) p[a] = boxMin[a] + (boxMax[a] - boxMin[a]) * U(rng);
+    long cell = depth.cellAt(p[0], p[1]);
+    bool known = cell >= 0 && std::isfinite(depth.z[size_t(cell)]);
+    if (known) p[2] = std::clamp(depth.z[size_t(cell)], boxMin[2], boxMax[2]);
+    for (int c = 0; c < 3; c++) rgb[3 * i + c] = known ? double(depth.rgb[3 * size_t(cell) + c]) : U(rng);
+  }
+  return gaussiansAt(xyz, rgb, boxMin, boxMax, density);
 }
 
 }  // namespace refrax

@@ -1,0 +1,54 @@
+#pragma once
+// Where the scene under the water lies, by a plane sweep (multi-view stereo through the water):
+// each training view's pixels, followed along their rays as refracted by the current water
+// surface, land on a stack of horizontal planes z = const; on the plane through a surface of
+// the scene the views agree on its colour there. Per cell of an (x, y) grid the plane where
+// the views' mean colours vary least (summed over a small window of cells, sub-plane refined
+// by a parabola) is that cell's depth.
+//
+// Why: the Gaussians drawn uniformly in the box (3DGS's fallback without SfM points) keep
+// their initial spread in depth: on the strong-wave tiny preset the opaque ones ended spread
+// over 0.5 m around a scene 0.2 m deep, and the water's error followed the scene's relief
+// (README). --init-depth sweep draws them at the swept depth instead.
+#include <cstdint>
+#include <vector>
+
+#include "engine/io/image_io.h"
+#include "engine/rays.h"
+
+namespace refrax {
+
+// One view: a ray per pixel (row-major, the image's size; as they leave the water), its image.
+struct SweepView {
+  std::vector<GpuRay> rays;
+  const Image* image = nullptr;
+};
+
+struct PlaneSweepConfig {
+  double xMin = 0, yMin = 0, xMax = 0, yMax = 0;  // the grid's area (the Gaussians' box)
+  double zMin = 0, zMax = 0;                       // the planes' range
+  uint32_t planes = 128;
+  double cellSize = 0;        // <= 0: twice the pixel footprint at mid depth (sweepCellSize)
+  uint32_t windowRadius = 2;  // costs summed over (2r + 1)^2 cells
+  uint32_t minViews = 3;      // a (cell, plane) needs this many views landing in it
+  // A cell's depth is kept when its best cost is below this fraction of its median cost
+  // over the planes (a textureless cell's costs are flat: no depth).
+  double confidence = 0.8;
+};
+
+struct DepthMap {
+  uint32_t cellsX = 0, cellsY = 0;
+  double xMin = 0, yMin = 0, cellSize = 0;
+  std::vector<double> z;        // per cell, NaN where no depth was found
+  std::vector<float> rgb;       // per cell, the views' mean colour at that depth
+  // The cell holding (x, y), or -1 outside the grid.
+  long cellAt(double x, double y) const;
+};
+
+// Twice the distance between where two neighbouring pixels' rays at the image centre meet
+// the plane z, the largest over the views: about four rays per cell and view.
+double sweepCellSize(const std::vector<SweepView>& views, double z);
+
+DepthMap planeSweepDepth(const std::vector<SweepView>& views, PlaneSweepConfig config);
+
+}  // namespace refrax
