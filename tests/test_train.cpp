@@ -183,7 +183,7 @@ GPU_TEST_CASE("train: --restart-gaussians draws the Gaussians afresh at its step
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset d;
   TrainConfig c = test::sessionConfig(data, 10, 300, 16, rng(), d);
-  c.schedule.gaussianRestart = 6;
+  c.schedule.gaussianRestarts = {6, 8};
   c.schedule.surfaceFreeze = 0;  // the surface learns from the start, and its fit must survive
   const float freshLogit = float(std::log(c.initialDensity / (1.0 - c.initialDensity)));
 
@@ -223,20 +223,29 @@ GPU_TEST_CASE("train: --restart-gaussians draws the Gaussians afresh at its step
   REQUIRE(resumed->step == 5);
   CHECK(trainStep(*resumed).restarted);
   CHECK(resumed->gaussians.params == whole->gaussians.params);
-  while (resumed->step < c.steps) CHECK(!trainStep(*resumed).restarted);
+  // The second restart, and no other.
+  while (resumed->step < c.steps) {
+    bool restarted = trainStep(*resumed).restarted;
+    CHECK(restarted == (resumed->step == 8));
+  }
 
-  // config.json keeps the step; runs written before the option have none; a step at or past
-  // the last is refused, on the command line too.
-  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").schedule.gaussianRestart == 6);
+  // config.json keeps the steps; runs written with one step, or before the option, read as
+  // they ran; a step at or past the last is refused, on the command line too, as is a list
+  // that is not one.
+  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").schedule.gaussianRestarts == std::vector<int>{6, 8});
   nlohmann::json old = trainConfigToJson(c);
-  old["schedule"].erase("gaussian_restart");
-  CHECK(trainConfigFromJson(old, "test").schedule.gaussianRestart == 0);
-  c.schedule.gaussianRestart = c.steps;
+  old["schedule"].erase("gaussian_restarts");
+  CHECK(trainConfigFromJson(old, "test").schedule.gaussianRestarts.empty());
+  old["schedule"]["gaussian_restart"] = 7;
+  CHECK(trainConfigFromJson(old, "test").schedule.gaussianRestarts == std::vector<int>{7});
+  c.schedule.gaussianRestarts = {6, c.steps};
   CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--restart-gaussians"), Error);
-  test::CliResult cli = test::runCli("train " + data + " -o " + (dir / "late") + " --steps 4 --restart-gaussians 4 --gaussians 100");
-  CHECK(cli.exitCode != 0);
-  CHECK(cli.output.find("--restart-gaussians") != std::string::npos);
-  CHECK(!fs::exists(dir / "late"));
+  for (const char* bad : {"4", "1,x", "2,,3"}) {
+    test::CliResult cli = test::runCli("train " + data + " -o " + (dir / "late") + " --steps 4 --restart-gaussians " + bad + " --gaussians 100");
+    CHECK(cli.exitCode != 0);
+    CHECK(cli.output.find("--restart-gaussians") != std::string::npos);
+    CHECK(!fs::exists(dir / "late"));
+  }
 }
 
 // Runs `refrax train` on a broken copy of the tiny dataset: one clear error naming `expect`,

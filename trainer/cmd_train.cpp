@@ -4,6 +4,7 @@
 // --resume RUN continues from the newest checkpoint.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "engine/dataset/dataset.h"
@@ -43,6 +44,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.steps = int(positiveCount(a, "steps", 15000, 1, 10000000));
   c.seed = uint64_t(a.getInt("seed", 1));
   c.initialGaussians = positiveCount(a, "gaussians", 20000, 1, 50000000);
+  c.initDepth = a.get("init-depth", "box");
   c.maxGaussians = positiveCount(a, "max-gaussians", std::max<long>(1000000, c.initialGaussians), 1, 100000000);
   c.initialDensity = a.getDouble("initial-density", 0.1);
   c.maxShDegree = positiveCount(a, "sh-degree", 3, 0, 3);
@@ -81,7 +83,19 @@ TrainConfig configFromArgs(const cli::Args& a) {
   scheduleOption(a, "lr-steps", c.schedule.lrSteps);
   scheduleOption(a, "prune-every", c.schedule.pruneInterval);
   scheduleOption(a, "prune-large-from", c.schedule.pruneLargeFrom);
-  scheduleOption(a, "restart-gaussians", c.schedule.gaussianRestart);
+  if (a.has("restart-gaussians")) {
+    // A comma-separated list of steps; 0 alone: never.
+    std::string list = a.get("restart-gaussians");
+    for (size_t at = 0; at <= list.size();) {
+      size_t end = std::min(list.find(',', at), list.size());
+      std::string item = list.substr(at, end - at);
+      char* stop = nullptr;
+      long v = std::strtol(item.c_str(), &stop, 10);
+      if (item.empty() || *stop != '\0' || v < 0 || v > 100000000) fail("--restart-gaussians must be steps separated by commas, got " + list);
+      if (v > 0) c.schedule.gaussianRestarts.push_back(int(v));
+      at = end + 1;
+    }
+  }
   c.densify = !a.has("no-densify");
   c.densifyGradThreshold = a.getDouble("densify-grad", 3e-4);
   c.progressEvery = int(positiveCount(a, "progress-every", 50, 1, 100000000));
@@ -147,6 +161,7 @@ std::vector<cli::Option> trainOptions() {
       {"steps", "N", "training steps (one training image or patch each)", "15000"},
       {"seed", "S", "random seed (initial Gaussians, height field, view order, patches)", "1"},
       {"gaussians", "N", "initial Gaussians, uniform in the box derived under the water", "20000"},
+      {"init-depth", "KIND", "the initial (and restarted) Gaussians' depth: box (uniform in the box, the reference) or sweep (a plane sweep of the training views through the current water; README)", "box"},
       {"max-gaussians", "N", "cap on the Gaussian count (enforced by densification)", "1000000"},
       {"initial-density", "X", "initial Gaussian density", "0.1"},
       {"sh-degree", "D", "highest SH degree (reached one degree per --sh-interval steps)", "3"},
@@ -184,7 +199,7 @@ std::vector<cli::Option> trainOptions() {
       {"prune-every", "N", "prune low-density Gaussians every N steps (densify-from..densify-until)", "100"},
       {"prune-large-from", "N", "also prune Gaussians larger than 10% of the extent from step N", "3000 x steps/15000"},
       {"lr-steps", "N", "length of the decaying learning-rate schedules", "30000 x steps/15000"},
-      {"restart-gaussians", "N", "draw the Gaussians afresh at step N (as at step 0, with fresh Adam state and schedules), the surface kept: the first Gaussians absorb the distortion of the still-flat water, and fresh ones let it grow toward the true amplitude (README) (0: never)", "0"},
+      {"restart-gaussians", "N[,N...]", "draw the Gaussians afresh after each step N (as at step 0, with fresh Adam state and schedules), the surface kept: the first Gaussians absorb the distortion of the still-flat water, and fresh ones let it grow toward the true amplitude; with --init-depth sweep each restart looks through a better surface (README) (0: never)", "0"},
       {"progress-every", "N", "progress line every N steps (stderr)", "50"},
       {"eval-every", "N", "test-split evaluation every N steps (0: at the end only)", "0"},
       {"checkpoint-every", "N", "checkpoint every N steps (0: at the end only)", "500"},

@@ -53,7 +53,6 @@ void resolveSchedule(TrainConfig& c) {
   scaled(k.lrSteps, 30000, s, 1);
   scaled(k.pruneInterval, 100, 1.0, 1);
   scaled(k.pruneLargeFrom, 3000, s, 0);
-  if (k.gaussianRestart < 0) k.gaussianRestart = 0;  // the reference never restarts
 }
 
 float encodingWindowAt(const TrainConfig& c, int t) {
@@ -73,6 +72,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.steps >= 1, "--steps must be at least 1");
   need(c.initialGaussians >= 1, "--gaussians must be at least 1");
   need(c.maxGaussians >= c.initialGaussians, "--max-gaussians must be at least the initial count");
+  need(c.initDepth == "box" || c.initDepth == "sweep", "--init-depth must be box or sweep, got " + c.initDepth);
   need(c.initialDensity > 0 && c.initialDensity < 1, "--initial-density must be in (0, 1)");
   need(c.maxShDegree <= 3, "--sh-degree must be 0..3");
   need(c.kBuffer >= 1 && c.kBuffer <= 64, "--k-buffer must be 1..64");
@@ -92,7 +92,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(std::isfinite(c.densityLossWeight) && c.densityLossWeight >= 0 && c.densityLossWeight <= 1000, "--density-loss must be in [0, 1000]");
   need(c.schedule.shDegreeInterval >= 1, "--sh-interval must be at least 1");
   need(c.schedule.lrSteps >= 1, "--lr-steps must be at least 1");
-  need(c.schedule.gaussianRestart >= 0 && c.schedule.gaussianRestart < c.steps, "--restart-gaussians must be a step before the last (0: never)");
+  for (int r : c.schedule.gaussianRestarts) need(r > 0 && r < c.steps, "--restart-gaussians must be steps after the first and before the last");
   need(c.progressEvery >= 1, "--progress-every must be at least 1");
   need(c.evalEvery >= 0 && c.checkpointEvery >= 0, "--eval-every and --checkpoint-every must be >= 0");
 }
@@ -123,6 +123,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["box_min"] = {c.boxMin[0], c.boxMin[1], c.boxMin[2]};
   j["box_max"] = {c.boxMax[0], c.boxMax[1], c.boxMax[2]};
   j["initial_gaussians"] = c.initialGaussians;
+  j["init_depth"] = c.initDepth;
   j["max_gaussians"] = c.maxGaussians;
   j["initial_density"] = c.initialDensity;
   j["max_sh_degree"] = c.maxShDegree;
@@ -148,7 +149,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
                    {"densify_from", k.densifyFrom},             {"densify_interval", k.densifyInterval},
                    {"densify_until", k.densifyUntil},           {"lr_steps", k.lrSteps},
                    {"prune_interval", k.pruneInterval},         {"prune_large_from", k.pruneLargeFrom},
-                   {"gaussian_restart", k.gaussianRestart}};
+                   {"gaussian_restarts", k.gaussianRestarts}};
   j["densify"] = c.densify;
   j["densify_grad_threshold"] = c.densifyGradThreshold;
   j["density_decay"] = c.densityDecay;
@@ -192,6 +193,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
       c.boxMax[a] = j.at("box_max").at(a).get<double>();
     }
     c.initialGaussians = j.at("initial_gaussians").get<uint32_t>();
+    c.initDepth = j.value("init_depth", std::string("box"));  // runs written before the option: the box
     c.maxGaussians = j.at("max_gaussians").get<uint32_t>();
     c.initialDensity = j.at("initial_density").get<double>();
     c.maxShDegree = j.at("max_sh_degree").get<uint32_t>();
@@ -224,7 +226,9 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     k.lrSteps = s.at("lr_steps").get<int>();
     k.pruneInterval = s.at("prune_interval").get<int>();
     k.pruneLargeFrom = s.at("prune_large_from").get<int>();
-    k.gaussianRestart = s.value("gaussian_restart", 0);  // runs written before the option: none
+    // Runs written before the list held one step (0: none); runs before that, no restart.
+    if (s.contains("gaussian_restarts")) k.gaussianRestarts = s.at("gaussian_restarts").get<std::vector<int>>();
+    else if (s.value("gaussian_restart", 0) > 0) k.gaussianRestarts = {s.at("gaussian_restart").get<int>()};
     c.densify = j.at("densify").get<bool>();
     c.densifyGradThreshold = j.at("densify_grad_threshold").get<double>();
     c.densityDecay = j.at("density_decay").get<double>();

@@ -6,6 +6,7 @@
 // through the same phases (surface frozen, face normals, SH degrees, density resets).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -36,7 +37,7 @@ struct ScheduleSteps {
   int pruneInterval = -1;        // low-density pruning every ...; reference 100 (same from/until)
   int pruneLargeFrom = -1;       // pruning of over-large Gaussians from ...; reference 3,000
   int lrSteps = -1;              // length of the decaying learning-rate schedules; reference 30,000
-  int gaussianRestart = -1;      // Gaussians drawn afresh at this step (0: never, the reference)
+  std::vector<int> gaussianRestarts;  // Gaussians drawn afresh after these steps (none: the reference)
 };
 
 struct TrainConfig {
@@ -53,6 +54,10 @@ struct TrainConfig {
 
   // Gaussians.
   uint32_t initialGaussians = 20000;
+  // Where the initial (and restarted) Gaussians' depths come from: "box", uniform in the box
+  // (the reference), or "sweep", a plane sweep of the training views through the current
+  // water (engine/train/plane_sweep.h).
+  std::string initDepth = "box";
   uint32_t maxGaussians = 1000000;
   double initialDensity = 0.1;
   uint32_t maxShDegree = 3;

@@ -120,7 +120,10 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
   };
   while (s.step < c.steps) {
     StepResult r = trainStep(s);
-    if (r.restarted) say("step " + std::to_string(s.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + ")");
+    if (r.restarted) {
+      std::string how = c.initDepth == "sweep" ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.sweptCellFraction))) + "% of the cells" : "";
+      say("step " + std::to_string(s.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
+    }
     if (s.step % c.progressEvery == 0 || s.step == c.steps) {
       double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       double rate = (s.step - first) / std::max(elapsed, 1e-9);

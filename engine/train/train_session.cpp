@@ -12,6 +12,7 @@
 #include "engine/height_field_source.h"
 #include "engine/surface_prior.h"
 #include "engine/train/init_gaussians.h"
+#include "engine/train/plane_sweep.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
 
@@ -113,15 +114,47 @@ void syncGaussians(TrainSession& s, bool countChanged) {
 
 namespace {
 
+// Every training view's rays, one per pixel, as they leave the current water (straight for
+// --no-refraction), for the plane sweep.
+std::vector<SweepView> sweepViews(TrainSession& s) {
+  std::vector<SweepView> views;
+  for (const View& v : s.dataset.split("train")) {
+    uint32_t n = uint32_t(v.camera.width * v.camera.height);
+    ensureRayCapacity(s, n);
+    submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.rayPipelines, v.camera, s.rays, 0.0f, 1e6f); });
+    if (s.surface) traceSurface(*s.ctx, *s.surface, currentHeightSource(s), s.rays, n, s.refracted, s.records);
+    views.push_back({downloadVector<GpuRay>(*s.ctx, s.surface ? s.refracted : s.rays, n), &v.image});
+  }
+  return views;
+}
+
 // The Gaussians drawn uniformly in the box, with fresh Adam moments, learning-rate schedules
 // and densification statistics: at step 0, and again at --restart-gaussians with the surface
 // kept. Why the restart: the first Gaussians fit the views through the still-flat water and
 // absorb most of its distortion as a warped scene, which stalls the surface at about half the
 // true amplitude; fresh Gaussians under a surface that has learned leave the rest of the
 // distortion to it (README, measured on the strong-wave scene).
+//
+// --init-depth sweep draws their depths from a plane sweep of the training views through the
+// water as it is now (flat at step 0, learned at a restart).
 void drawGaussians(TrainSession& s) {
   const TrainConfig& c = s.config;
-  s.gaussians = initialGaussians(s.rng, c.initialGaussians, c.boxMin, c.boxMax, c.initialDensity);
+  if (c.initDepth == "sweep") {
+    PlaneSweepConfig pc;
+    pc.xMin = c.boxMin[0];
+    pc.yMin = c.boxMin[1];
+    pc.zMin = c.boxMin[2];
+    pc.xMax = c.boxMax[0];
+    pc.yMax = c.boxMax[1];
+    pc.zMax = c.boxMax[2];
+    DepthMap depth = planeSweepDepth(sweepViews(s), pc);
+    size_t known = 0;
+    for (double z : depth.z) known += std::isfinite(z) ? 1 : 0;
+    s.sweptCellFraction = double(known) / double(std::max<size_t>(1, depth.z.size()));
+    s.gaussians = initialGaussiansOnDepth(s.rng, c.initialGaussians, c.boxMin, c.boxMax, c.initialDensity, depth);
+  } else {
+    s.gaussians = initialGaussians(s.rng, c.initialGaussians, c.boxMin, c.boxMax, c.initialDensity);
+  }
   s.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.gaussians.count());
   s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
 }
@@ -136,12 +169,8 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   s->dataset = std::move(dataset);
   s->rng.seed(uint32_t(config.seed * 2654435761u + 17u));
 
-  drawGaussians(*s);
   s->tracer = createGaussianTracer(ctx, config.kBuffer);
   s->proxyKind = proxyKindFor(config.proxy, ctx.caps);
-  s->device = uploadGaussians(ctx, s->gaussians);
-  s->proxies = buildGaussianProxies(ctx, s->tracer, s->device, s->gaussians, s->proxyKind, true);
-  allocateGaussianBuffers(*s);
   DensifyConfig& dc = s->densifyConfig;
   const ScheduleSteps& k = config.schedule;
   // 3DGS measures "large" against the cameras' spread; cameras close together over a wide
@@ -199,6 +228,12 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
     s->planeHeight = s->plane.waves.base;  // what a checkpoint stores and restores as the base
   }
   if (config.model != WaterModel::NoRefraction) createSurface(*s);
+  // After the water: the plane sweep (--init-depth sweep) looks through it. Nothing above
+  // draws from s->rng, so the box's draw is what it was before the sweep existed.
+  drawGaussians(*s);
+  s->device = uploadGaussians(ctx, s->gaussians);
+  s->proxies = buildGaussianProxies(ctx, s->tracer, s->device, s->gaussians, s->proxyKind, true);
+  allocateGaussianBuffers(*s);
   shuffleViews(*s);
   return s;
 }
@@ -463,7 +498,8 @@ StepResult trainStep(TrainSession& s) {
     s.densifyStats = std::move(kept);
   }
   StepResult r;
-  if (t == c.schedule.gaussianRestart) {
+  const std::vector<int>& restarts = c.schedule.gaussianRestarts;
+  if (std::find(restarts.begin(), restarts.end(), t) != restarts.end()) {
     drawGaussians(s);
     countChanged = r.restarted = true;
   }

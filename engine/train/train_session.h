@@ -70,6 +70,7 @@ struct TrainSession {
   double planeHeight = 0, planeM = 0, planeV = 0;
   int planeStep = 0;
   std::optional<WaterSurface> surface;
+  double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
 
   // Per-step buffers for up to `capacity` rays.
   uint32_t capacity = 0;
