@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What refraction buys where it matters (issue 6): test PSNR and surface RMSE of five models
+# What refraction buys where it matters (issue 6): test PSNR and surface RMSE of six models
 # on the strong-refraction tiny preset, seed by seed, each against --no-refraction on the
 # same data, seed, patch size and steps (the README's table and the long training test):
 #   no-refraction   plain 3DGRT, straight rays
@@ -7,12 +7,15 @@
 #   short-run       refraction with the short-run surface settings: 3 octaves, --surface-lr
 #                   3e-3, --surface-freeze 400, --anchor-mean-height
 #   restart         short-run plus --level-prior 1000 and --restart-gaussians at 2/5 of the
-#                   steps (1,200 of 3,000): the long training test's settings
+#                   steps (1,200 of 3,000)
+#   sweep           short-run plus --level-prior 1000, --init-depth sweep and restarts at 1/3,
+#                   8/15 and 11/15 of the steps (1,000, 1,600, 2,200 of 3,000): each restart
+#                   draws the Gaussians at a plane sweep's depth through the learned water
 #   known-water     the true water fixed (oracle): the ceiling a perfect surface gives
 # Data: refrax synth nerfrac-primary-sine --size tiny --width 96 --ior 1.33 --wave-amplitude 2
 #   (a 5 cm sine, wavelength 0.5 m, slope 0.63; 8 training views, 1 test view).
 # Training: 3,000 steps of 64 x 64 patches, 2,000 initial Gaussians capped at 4,000, no density
-#   resets, SH degree 0. About 30 minutes per seed on this 2-core lavapipe machine.
+#   resets, SH degree 0. About 40 minutes per seed on this 2-core lavapipe machine.
 #
 # Usage: bench/refraction-gain.sh [--seeds 1,2] [--steps N] [--out DIR]
 #   --seeds S,...  seeds to run (default 1)
@@ -59,12 +62,14 @@ short_run=(--mlp-coarse-octaves 3 --octaves-open-until 10000000 --surface-lr 3e-
 csv=$work/refraction-gain.csv
 mkdir -p "$work/runs"
 for seed in ${seeds//,/ }; do
-  for setting in no-refraction reference short-run restart known-water; do
+  for setting in no-refraction reference short-run restart sweep known-water; do
     case $setting in
       no-refraction) extra=(--no-refraction) ;;
       reference) extra=() ;;
       short-run) extra=("${short_run[@]}") ;;
       restart) extra=("${short_run[@]}" --level-prior 1000 --restart-gaussians $((steps * 2 / 5))) ;;
+      sweep) extra=("${short_run[@]}" --level-prior 1000 --init-depth sweep
+        --restart-gaussians $((steps / 3)),$((steps * 8 / 15)),$((steps * 11 / 15))) ;;
       known-water) extra=(--known-water) ;;
     esac
     run=$work/runs/$setting-$seed

