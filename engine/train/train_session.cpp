@@ -498,6 +498,8 @@ StepResult trainStep(TrainSession& s) {
     s.densifyStats = std::move(kept);
   }
   StepResult r;
+  // Read before a restart: its plane sweep traces the water again (--init-depth sweep).
+  if (refract) r.missed = s.surface->lastCounters.missed;
   const std::vector<int>& restarts = c.schedule.gaussianRestarts;
   if (std::find(restarts.begin(), restarts.end(), t) != restarts.end()) {
     drawGaussians(s);
@@ -508,7 +510,6 @@ StepResult trainStep(TrainSession& s) {
   mark("sync");
   if (timing) std::fprintf(stderr, "\n");
 
-  if (refract) r.missed = s.surface->lastCounters.missed;
   r.imageLoss = lossResult[0];
   r.loss = r.imageLoss + c.densityLossWeight * densitySquares / double(count) + priorEnergy;
   r.psnr = batchPsnr(rendered, target);
