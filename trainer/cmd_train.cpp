@@ -3,6 +3,7 @@
 // comparison models on the same data, --known-water the oracle (the true surface, fixed).
 // --resume RUN continues from the newest checkpoint.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -85,15 +86,10 @@ TrainConfig configFromArgs(const cli::Args& a) {
   scheduleOption(a, "prune-large-from", c.schedule.pruneLargeFrom);
   if (a.has("restart-gaussians")) {
     // A comma-separated list of steps; 0 alone: never.
-    std::string list = a.get("restart-gaussians");
-    for (size_t at = 0; at <= list.size();) {
-      size_t end = std::min(list.find(',', at), list.size());
-      std::string item = list.substr(at, end - at);
-      char* stop = nullptr;
-      long v = std::strtol(item.c_str(), &stop, 10);
-      if (item.empty() || *stop != '\0' || v < 0 || v > 100000000) fail("--restart-gaussians must be steps separated by commas, got " + list);
+    const std::string list = a.get("restart-gaussians");
+    for (double v : parseNumbers(list, 0, "--restart-gaussians", "steps separated by commas")) {
+      if (v != std::floor(v) || v < 0 || v > 100000000) fail("--restart-gaussians expects steps separated by commas, got '" + list + "'");
       if (v > 0) c.schedule.gaussianRestarts.push_back(int(v));
-      at = end + 1;
     }
   }
   c.densify = !a.has("no-densify");

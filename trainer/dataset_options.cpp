@@ -20,9 +20,6 @@ std::vector<cli::Option> datasetOptions() {
   };
 }
 
-namespace {
-
-// `count` comma-separated finite numbers, or one clear error naming the option.
 std::vector<double> parseNumbers(const std::string& text, size_t count, const std::string& what, const std::string& shape) {
   std::vector<double> v;
   std::stringstream ss(text);
@@ -34,11 +31,9 @@ std::vector<double> parseNumbers(const std::string& text, size_t count, const st
     ok = ok && !item.empty() && !*end && std::isfinite(d);
     v.push_back(d);
   }
-  if (!ok || v.size() != count) fail(what + " expects " + shape + ", got '" + text + "'");
+  if (!ok || v.empty() || (count > 0 && v.size() != count)) fail(what + " expects " + shape + ", got '" + text + "'");
   return v;
 }
-
-}  // namespace
 
 Rect parseRect(const std::string& text, const std::string& what) {
   auto v = parseNumbers(text, 4, what, "four numbers x0,y0,x1,y1");
