@@ -215,8 +215,10 @@ GPU_TEST_CASE("tiled forward equals the BVH forward and the double reference (ca
         CHECK(cmp.worstColorRel <= 1e-4);
         CHECK(stats.overflowed == 0);
         // the lists are what makes it fast: each tile lists a part of the scene (a large part
-        // here, where a tile spans 10 degrees of view; 1/8 of that at 256x256)
-        CHECK(stats.meanListed < (isCamera ? 0.25 : 0.5) * double(set.count()));
+        // here, where a tile spans 10 degrees of view; 1/8 of that at 256x256). Over seeds
+        // 1-120 camera tiles listed 0.107-0.117 of the Gaussians and refracted ones 0.24-0.54
+        // (the spread is the random camera's view of the waves), so the bars sit well above.
+        CHECK(stats.meanListed < (isCamera ? 0.25 : 0.75) * double(set.count()));
         size_t multiRound = 0;
         for (auto& r : tiled) multiRound += r.rounds > 1;
         if (K == 16) CHECK(multiRound > 50);  // the k-buffer restarts from the list too
