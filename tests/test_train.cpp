@@ -107,20 +107,21 @@ const StrongWaveComparison& strongWaveComparison() {
 // The paper's claim at CI size: refraction beats straight rays by 3 dB and recovers the
 // surface to half the flat plane's error (issue 6's bars). Measured (lavapipe, 64 x 64
 // patches, against --no-refraction with the same seed and steps):
-//   4,000 steps (this test): seed 1 (this test's) +3.29 dB (19.69 against 16.40), surface
-//   RMSE 0.0094 (0.28x the flat plane's); seed 3 21.23 dB, 0.0107 (0.32x);
+//   4,000 steps (this test): seed 1 (this test's), three runs: +3.29, +3.98, +3.79 dB
+//   (19.69, 20.38, 20.19 against 16.40), surface RMSE 0.0094, 0.0118, 0.0113 (0.28-0.36x
+//   the flat plane's); seed 2 +2.96 dB (19.09 against 16.14), 0.42x; seed 3 +5.52 dB
+//   (21.23 against 15.71), 0.32x;
 //   3,000 steps, restarts as here: seeds 1, 2, 3 +2.90, +2.80, +1.97 dB, 0.42, 0.42, 0.54x;
 //   3,000 steps, one restart at 1,200 from the box (the earlier settings): +2.04 to +2.49 dB,
 //   0.48-0.64x.
 // What the last steps add is the Gaussians' refit after the third restart (800 steps at
 // 3,000). Gradient sums are not deterministic, so one seed varies between runs (seed 1 by
-// 0.4 dB over three runs at 3,000 steps). The surface bar is the issue's, with a wide margin;
-// the gain bar leaves that spread under the one seed-1 run measured, so it stays at 2.5 dB
-// until more runs show that the issue's 3 dB holds with a margin.
+// 0.7 dB over its three runs at 4,000 steps). The bars are the issue's: the gain's margin is
+// 0.29 dB under seed 1's lowest run, the surface's wide.
 TEST_CASE("train: refraction beats straight rays and halves the flat surface error on a tiny NeRFrac-like run" *
           doctest::test_suite("long")) {
   const StrongWaveComparison& c = strongWaveComparison();
-  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 2.5);
+  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 3.0);
   CHECK(c.refraction["surface_rmse"].get<double>() * 2.0 <= c.refraction["initial_flat_surface_rmse"].get<double>());
   CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
 }
