@@ -1,19 +1,22 @@
 #!/usr/bin/env bash
 # Every preset (issue 6's closing table): test PSNR, SSIM, surface RMSE and training time of the
-# refraction model, with and without the slope prior (--surface-smoothness), next to
+# refraction model with the long CI test's method (refraction-sweep: the level prior and the
+# Gaussians drawn at a plane sweep's depth, afresh at two restarts), of the refraction model
+# with and without the slope prior (--surface-smoothness), next to
 # --flat-water and --no-refraction on the same data, seed and steps,
 # for each NeRFrac-like preset (3 x 3 downward rig, IOR 1.1) and each RefracGS-like scene
 # (desk, kitchen, toys: 24 ring views at IOR 1.33, and their 9-camera downward variants).
 #
 # Usage: bench/presets.sh [--full | --smoke] [--out DIR] [--keep-work] [--charts-only]
-#                         [--models refraction,refraction-smooth,flat-water,no-refraction]
+#                         [--models refraction-sweep,refraction,refraction-smooth,flat-water,no-refraction]
 #                         [--presets NAME,...] [--refraction-options "OPTS"] [--smoothness X]
 #   default  tiny presets (64 px wide), 1,500 steps of 32 x 32 patches, 2,000 initial Gaussians
 #            capped at 4,000, no density resets, SH degree 0; the refraction model with the
 #            short-run surface settings (3 octaves, --surface-lr 3e-3, the surface learning from
 #            step 200, the anchored mean height; README "Training"), and the same with
-#            --surface-smoothness 0.1 (refraction-smooth). 36 runs, 33 minutes on this 2-core
-#            lavapipe machine (3.6 hours of training on a slower one).
+#            --surface-smoothness 0.1 (refraction-smooth), and the same with --level-prior 1000
+#            --init-depth sweep --restart-gaussians 500,800 (refraction-sweep). 45 runs, about
+#            50 minutes on this 2-core lavapipe machine.
 #   --full   full-size presets (392 px NeRFrac-like, 400 x 300 RefracGS-like), the reference
 #            schedule: 15,000 whole-image steps, 20,000 initial Gaussians, SH degree 3 (a GPU).
 #   --smoke  two presets, 20 steps (checks the pipeline, not the method).
@@ -25,8 +28,8 @@
 #   --smoothness X  the slope prior's weight for refraction-smooth (default 0.1; 0.01 held
 #            2 of the 4 presets whose surface ran away and let a stable one drift, see README).
 # Writes DIR/presets.csv (one row per run: preset and variant, then `refrax report`'s columns) and
-# DIR/summary.md (device, load, sizes, and per preset the four variants with
-# refraction-smooth's gain over each other one).
+# DIR/summary.md (device, load, sizes, and per preset the five variants with
+# refraction-sweep's gain over each other one).
 set -euo pipefail
 . "$(dirname "$0")/suite-lib.sh"
 invocation="bench/presets.sh${1:+ $*}"
@@ -49,16 +52,18 @@ suite_parse_args presets ${args[@]+"${args[@]}"}
 
 presets=(nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown)
 short_run="--mlp-coarse-octaves 3 --octaves-open-until 100000000 --surface-lr 3e-3 --surface-freeze 200 --anchor-mean-height"
+# the long CI test's method, its restarts at a third and a half of the run here
 case $mode in
   default) steps=1500 common="--patch 32 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0"
-    refraction=$short_run ;;
-  full) steps=15000 common="" refraction="" ;;
-  smoke) steps=20 common="--patch 16 --gaussians 300 --sh-degree 0" refraction=$short_run presets=(nerfrac-hybrid desk) ;;
+    refraction=$short_run restarts=500,800 ;;
+  full) steps=15000 common="" refraction="" restarts=5000,7500 ;;
+  smoke) steps=20 common="--patch 16 --gaussians 300 --sh-degree 0" refraction=$short_run restarts=10 presets=(nerfrac-hybrid desk) ;;
 esac
 [[ $smoothness =~ ^[0-9]+([.][0-9]+)?([eE][-+]?[0-9]+)?$ ]] || { echo "presets: --smoothness needs a number >= 0, not '$smoothness'" >&2; exit 2; }
 [ "$refraction_options" = unset ] || refraction=$refraction_options
 smooth="--surface-smoothness $smoothness"
-models=("refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
+sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts"
+models=("refraction-sweep|$refraction $sweep" "refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
 all_presets=$(IFS=,; echo "${presets[*]}")
 csv=$out/presets.csv
 if [ -n "$only_models" ]; then
@@ -66,7 +71,7 @@ if [ -n "$only_models" ]; then
   for entry in "${models[@]}"; do
     case ",$only_models," in *",${entry%%|*},"*) kept+=("$entry") ;; esac
   done
-  [ ${#kept[@]} -gt 0 ] || { echo "presets: --models names none of refraction, refraction-smooth, flat-water, no-refraction" >&2; exit 2; }
+  [ ${#kept[@]} -gt 0 ] || { echo "presets: --models names none of refraction-sweep, refraction, refraction-smooth, flat-water, no-refraction" >&2; exit 2; }
   models=("${kept[@]}")
 fi
 if [ -n "$only_presets" ]; then
@@ -112,6 +117,8 @@ if [ $charts_only = 1 ]; then
   load_line="Table rebuilt from presets.csv; its runs may come from several invocations, each on this device, one run at a time."
 else
   load_line=$(suite_load_line)
+  # rows of other models or presets kept from an earlier invocation (--models, --presets)
+  [ -z "$only_models$only_presets" ] || load_line="$load_line This invocation ran only ${only_models:-every model} on ${only_presets:-every preset}; the other rows come from earlier invocations on this device."
 fi
 # The table: per preset, each model's final evaluation and the refraction model's gain over it.
 summary=$work/summary.md
@@ -127,21 +134,21 @@ lines = [
     "Device: $device. Generated by \`$invocation\` on $(date -u +%Y-%m-%d).",
     "$load_line", "",
     "Sizes: \`refrax synth <preset> --size $size\`; every run \`--steps $steps $common\`; the refraction model adds",
-    "\`${refraction:-nothing}\`, refraction-smooth also \`$smooth\`. One seed (1); times are training wall time (evaluations excluded), every run on one",
-    "device, one after the other. *gain* is the refraction-smooth model's test PSNR minus the other model's on the same preset;",
+    "\`${refraction:-nothing}\`, refraction-smooth also \`$smooth\`, refraction-sweep also \`$sweep\`. One seed (1); times are training wall time (evaluations excluded), every run on one",
+    "device, one after the other. *gain* is the refraction-sweep model's test PSNR minus the other model's on the same preset;",
     "*flat start* is the surface RMSE of the initial flat plane (the water height the dataset gives).", "",
     "| preset | variant | test PSNR (dB) | gain (dB) | SSIM | surface RMSE | flat start | training (s) | Gaussians |",
     "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
 ]
 by = {(r["preset"], r["variant"]): r for r in rows}
 for preset in dict.fromkeys(r["preset"] for r in rows):
-    ref = by.get((preset, "refraction-smooth"))
-    for model in ("refraction-smooth", "refraction", "flat-water", "no-refraction"):
+    ref = by.get((preset, "refraction-sweep"))
+    for model in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "no-refraction"):
         r = by.get((preset, model))
         if r is None:
             lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | |")
             continue
-        gain = "" if model == "refraction-smooth" or ref is None else f'{float(ref["eval_psnr"]) - float(r["eval_psnr"]):+.2f}'
+        gain = "" if model == "refraction-sweep" or ref is None else f'{float(ref["eval_psnr"]) - float(r["eval_psnr"]):+.2f}'
         lines.append(f'| {preset} | {model} | {num(r, "eval_psnr", ".2f")} | {gain} | {num(r, "eval_ssim", ".3f")} | '
                      f'{num(r, "eval_surface_rmse", ".4f")} | {num(r, "initial_flat_surface_rmse", ".4f")} | '
                      f'{num(r, "training_seconds", ".0f")} | {r.get("gaussians", "-")} |')
