@@ -16,7 +16,7 @@
 #            step 200, the anchored mean height; README "Training"), and the same with
 #            --surface-smoothness 0.1 (refraction-smooth), and the same with --level-prior 1000
 #            --init-depth sweep --restart-gaussians 500,800 (refraction-sweep). 45 runs, about
-#            50 minutes on this 2-core lavapipe machine.
+#            60 minutes on this 2-core lavapipe machine.
 #   --full   full-size presets (392 px NeRFrac-like, 400 x 300 RefracGS-like), the reference
 #            schedule: 15,000 whole-image steps, 20,000 initial Gaussians, SH degree 3 (a GPU).
 #   --smoke  two presets, 20 steps (checks the pipeline, not the method).
@@ -24,7 +24,8 @@
 #            DIR/presets.csv (e.g. after changing one model's settings).
 #   --refraction-options replaces the refraction model's extra `refrax train` options ("" for
 #            the reference surface settings: 6 octaves, --surface-lr 5e-4, frozen 1/15 of the run;
-#            refraction-smooth adds --surface-smoothness X to them).
+#            refraction-smooth adds --surface-smoothness X to them, refraction-sweep the level
+#            prior, the sweep and the restarts).
 #   --smoothness X  the slope prior's weight for refraction-smooth (default 0.1; 0.01 held
 #            2 of the 4 presets whose surface ran away and let a stable one drift, see README).
 # Writes DIR/presets.csv (one row per run: preset and variant, then `refrax report`'s columns) and
@@ -71,7 +72,7 @@ if [ -n "$only_models" ]; then
   for entry in "${models[@]}"; do
     case ",$only_models," in *",${entry%%|*},"*) kept+=("$entry") ;; esac
   done
-  [ ${#kept[@]} -gt 0 ] || { echo "presets: --models names none of refraction-sweep, refraction, refraction-smooth, flat-water, no-refraction" >&2; exit 2; }
+  [ ${#kept[@]} -gt 0 ] || { echo "presets: --models names none of $(for entry in "${models[@]}"; do printf '%s ' "${entry%%|*}"; done)" >&2; exit 2; }
   models=("${kept[@]}")
 fi
 if [ -n "$only_presets" ]; then
