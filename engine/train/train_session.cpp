@@ -349,51 +349,105 @@ void applyDensitySchedule(TrainSession& s, int t) {
 
 }  // namespace
 
+StepBatch nextStepBatch(TrainSession& s) {
+  const auto& trainViews = s.dataset.split("train");
+  if (s.viewCursor >= s.viewOrder.size()) shuffleViews(s);
+  StepBatch b;
+  b.view = s.viewOrder[s.viewCursor++];
+  const Camera& cam = trainViews[b.view].camera;
+  b.width = uint32_t(cam.width);
+  b.height = uint32_t(cam.height);
+  const uint32_t p = s.config.patch;
+  b.patch = p > 0 && (p < b.width || p < b.height);
+  if (b.patch) {
+    b.width = std::min(p, b.width);
+    b.height = std::min(p, b.height);
+    b.x0 = uint32_t(s.rng() % (uint32_t(cam.width) - b.width + 1));
+    b.y0 = uint32_t(s.rng() % (uint32_t(cam.height) - b.height + 1));
+  }
+  return b;
+}
+
+TraceOptions stepTraceOptions(TrainSession& s, const StepBatch& b, int t) {
+  const TrainConfig& c = s.config;
+  TraceOptions opt;
+  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(c.datasetOptions.background[ch]);
+  opt.shDegree = shDegreeAt(c, t);
+  // Densification statistics from the camera, not from where refracted rays start (the water).
+  opt.statisticsViewpoint = glm::vec3(s.dataset.split("train")[b.view].camera.cameraToWorld[3]);
+  if (c.hitRecordsPerRay > 0) {
+    // sized by the rays of a step (a patch, not the largest image): 8 bytes per record
+    if (s.hitRecords.rays < b.rays()) s.hitRecords = createHitRecords(*s.ctx, b.rays(), c.hitRecordsPerRay);
+    opt.hitRecords = &s.hitRecords;
+  }
+  if (s.surface) s.surface->config.faceNormals = t <= c.schedule.faceNormalsUntil;
+  return opt;
+}
+
+BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOptions& opt) {
+  Context& ctx = *s.ctx;
+  const View& view = s.dataset.split("train")[b.view];
+  const Camera& cam = view.camera;
+  const uint32_t n = b.rays();
+  ensureRayCapacity(s, n);
+  BatchForward f;
+  f.target.resize(size_t(n) * 3);
+  std::vector<uint32_t> pixelList(b.patch ? n : 0);
+  for (uint32_t y = 0; y < b.height; y++)
+    for (uint32_t x = 0; x < b.width; x++) {
+      uint32_t i = y * b.width + x;
+      if (b.patch) pixelList[i] = (b.y0 + y) * uint32_t(cam.width) + b.x0 + x;
+      for (int ch = 0; ch < 3; ch++) f.target[3 * i + ch] = view.image.at(int(b.x0 + x), int(b.y0 + y), ch);
+    }
+  upload(ctx, s.target, f.target.data(), f.target.size() * 4);
+  if (b.patch) upload(ctx, s.pixels, pixelList.data(), pixelList.size() * 4);
+
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    if (b.patch)
+      cmdCameraRaysForPixels(cb, s.rayPipelines, cam, s.pixels, n, s.rays, 0.0f, 1e6f);
+    else
+      cmdCameraRays(cb, s.rayPipelines, cam, s.rays, 0.0f, 1e6f);
+  });
+  if (s.surface) traceSurface(ctx, *s.surface, currentHeightSource(s), s.rays, n, s.refracted, s.records);
+  const Buffer& traced = s.surface ? s.refracted : s.rays;
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, s.tracer, s.proxies, s.device, traced, s.results, n, opt); });
+  std::vector<GpuTraceResult> results = downloadVector<GpuTraceResult>(ctx, s.results, n);
+  f.rendered.resize(size_t(n) * 3);
+  for (uint32_t i = 0; i < n; i++)
+    for (int ch = 0; ch < 3; ch++) f.rendered[3 * i + ch] = results[i].rgb[ch];
+  upload(ctx, s.rendered, f.rendered.data(), f.rendered.size() * 4);
+
+  // Image loss and its gradient.
+  prepareImageLossScratch(ctx, s.lossScratch, b.width, b.height, 3);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdImageLoss(cb, s.lossPipelines, s.lossScratch, s.rendered, s.target, s.lossGrad, s.lossResult); });
+  std::vector<float> lossGrad = downloadVector<float>(ctx, s.lossGrad, size_t(n) * 3);
+  f.imageLoss = downloadVector<float>(ctx, s.lossResult, 4)[0];
+  std::vector<float> dLoss(size_t(n) * 4, 0.0f);  // dL/dopacity stays 0: the background is part of rgb
+  for (uint32_t i = 0; i < n; i++)
+    for (int ch = 0; ch < 3; ch++) dLoss[4 * i + ch] = lossGrad[3 * i + ch];
+  upload(ctx, s.dLoss, dLoss.data(), dLoss.size() * 4);
+  return f;
+}
+
+void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& s, const StepBatch& b, const TraceOptions& opt, bool surfaceLearns) {
+  const Buffer& traced = s.surface ? s.refracted : s.rays;
+  cmdTraceBackward(cb, s.tracer, s.proxies, s.device, traced, s.results, s.dLoss, s.grads, s.stats, s.rayGrads, b.rays(), opt);
+  if (!surfaceLearns) return;
+  if (s.height)
+    cmdBackwardSurface(cb, *s.surface, heightSource(*s.height, s.heightGrad), s.rays, s.records, s.rayGrads, b.rays());
+  else
+    cmdBackwardSurface(cb, *s.surface, currentHeightSource(s), s.rays, s.records, s.rayGrads, b.rays());
+}
+
 StepResult trainStep(TrainSession& s) {
   auto start = std::chrono::steady_clock::now();
   Context& ctx = *s.ctx;
   const TrainConfig& c = s.config;
   int t = ++s.step;
-  const auto& trainViews = s.dataset.split("train");
-  if (s.viewCursor >= s.viewOrder.size()) shuffleViews(s);
-  const View& view = trainViews[s.viewOrder[s.viewCursor++]];
-  const Camera& cam = view.camera;
-
-  // The batch: the whole image or a random P x P patch of it.
-  uint32_t bw = uint32_t(cam.width), bh = uint32_t(cam.height), x0 = 0, y0 = 0;
-  bool patch = c.patch > 0 && (c.patch < bw || c.patch < bh);
-  if (patch) {
-    bw = std::min(c.patch, bw);
-    bh = std::min(c.patch, bh);
-    x0 = uint32_t(s.rng() % (uint32_t(cam.width) - bw + 1));
-    y0 = uint32_t(s.rng() % (uint32_t(cam.height) - bh + 1));
-  }
-  uint32_t n = bw * bh;
-  ensureRayCapacity(s, n);
-  std::vector<float> target(size_t(n) * 3);
-  std::vector<uint32_t> pixelList(patch ? n : 0);
-  for (uint32_t y = 0; y < bh; y++)
-    for (uint32_t x = 0; x < bw; x++) {
-      uint32_t i = y * bw + x;
-      if (patch) pixelList[i] = (y0 + y) * uint32_t(cam.width) + x0 + x;
-      for (int ch = 0; ch < 3; ch++) target[3 * i + ch] = view.image.at(int(x0 + x), int(y0 + y), ch);
-    }
-  upload(ctx, s.target, target.data(), target.size() * 4);
-  if (patch) upload(ctx, s.pixels, pixelList.data(), pixelList.size() * 4);
-
-  bool refract = s.surface.has_value();
-  bool surfaceLearns = refract && c.model != WaterModel::KnownWater && t > c.schedule.surfaceFreeze;
-  if (refract) s.surface->config.faceNormals = t <= c.schedule.faceNormalsUntil;
-  TraceOptions opt;
-  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(c.datasetOptions.background[ch]);
-  opt.shDegree = shDegreeAt(c, t);
-  // Densification statistics from the camera, not from where refracted rays start (the water).
-  opt.statisticsViewpoint = glm::vec3(cam.cameraToWorld[3]);
-  if (c.hitRecordsPerRay > 0) {
-    // sized by the rays of a step (a patch, not the largest image): 8 bytes per record
-    if (s.hitRecords.rays < n) s.hitRecords = createHitRecords(ctx, n, c.hitRecordsPerRay);
-    opt.hitRecords = &s.hitRecords;
-  }
+  const StepBatch batch = nextStepBatch(s);
+  const bool refract = s.surface.has_value();
+  const bool surfaceLearns = refract && c.model != WaterModel::KnownWater && t > c.schedule.surfaceFreeze;
+  const TraceOptions opt = stepTraceOptions(s, batch, t);
 
   static bool timing = std::getenv("REFRAX_TRAIN_TIMING") != nullptr;
   auto mark = [&, last = std::chrono::steady_clock::now()](const char* what) mutable {
@@ -402,36 +456,8 @@ StepResult trainStep(TrainSession& s) {
     std::fprintf(stderr, "%s %.1f ms  ", what, std::chrono::duration<double, std::milli>(now - last).count());
     last = now;
   };
-  // Forward.
-  submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    if (patch)
-      cmdCameraRaysForPixels(cb, s.rayPipelines, cam, s.pixels, n, s.rays, 0.0f, 1e6f);
-    else
-      cmdCameraRays(cb, s.rayPipelines, cam, s.rays, 0.0f, 1e6f);
-  });
-  HeightSource source = currentHeightSource(s);
-  mark("rays");
-  if (refract) traceSurface(ctx, *s.surface, source, s.rays, n, s.refracted, s.records);
-  mark("surface");
-  const Buffer& traced = refract ? s.refracted : s.rays;
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, s.tracer, s.proxies, s.device, traced, s.results, n, opt); });
-  std::vector<GpuTraceResult> results = downloadVector<GpuTraceResult>(ctx, s.results, n);
-  std::vector<float> rendered(size_t(n) * 3);
-  for (uint32_t i = 0; i < n; i++)
-    for (int ch = 0; ch < 3; ch++) rendered[3 * i + ch] = results[i].rgb[ch];
-  upload(ctx, s.rendered, rendered.data(), rendered.size() * 4);
-  mark("gaussians");
-
-  // Image loss and its gradient.
-  prepareImageLossScratch(ctx, s.lossScratch, bw, bh, 3);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdImageLoss(cb, s.lossPipelines, s.lossScratch, s.rendered, s.target, s.lossGrad, s.lossResult); });
-  std::vector<float> lossGrad = downloadVector<float>(ctx, s.lossGrad, size_t(n) * 3);
-  std::vector<float> lossResult = downloadVector<float>(ctx, s.lossResult, 4);
-  std::vector<float> dLoss(size_t(n) * 4, 0.0f);  // dL/dopacity stays 0: the background is part of rgb
-  for (uint32_t i = 0; i < n; i++)
-    for (int ch = 0; ch < 3; ch++) dLoss[4 * i + ch] = lossGrad[3 * i + ch];
-  upload(ctx, s.dLoss, dLoss.data(), dLoss.size() * 4);
-  mark("loss");
+  const BatchForward forward = forwardBatch(s, batch, opt);
+  mark("forward");
 
   // Backward: Gaussians, then the surface and its parameters.
   fillBuffer(ctx, s.grads, 0);
@@ -439,9 +465,8 @@ StepResult trainStep(TrainSession& s) {
   const bool priorOn = surfaceLearns && s.height && (c.surfaceSmoothness > 0 || c.levelPrior > 0);
   const double priorEnergy = priorOn ? uploadSurfacePriorGradient(s) : 0.0;
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    cmdTraceBackward(cb, s.tracer, s.proxies, s.device, traced, s.results, s.dLoss, s.grads, s.stats, s.rayGrads, n, opt);
+    cmdBackwardBatch(cb, s, batch, opt, surfaceLearns);
     if (surfaceLearns && s.height) {
-      cmdBackwardSurface(cb, *s.surface, *s.height, s.rays, s.records, s.rayGrads, n, s.heightGrad);
       if (priorOn) {
         heightSource(*s.height, s.heightGrad).accumulateGradients(cb, s.surface->gridPoints, s.priorGrad, s.surface->gridPointCount);
         cmdBarrier(cb);
@@ -452,14 +477,13 @@ StepResult trainStep(TrainSession& s) {
       // the proxy mesh the next step traces is lifted by the field it will differentiate.
       s.height->config.encodingWindow = encodingWindowAfterStep(c, t);
       cmdUpdateSurface(cb, *s.surface, *s.height);
-    } else if (surfaceLearns) {
-      cmdBackwardSurface(cb, *s.surface, source, s.rays, s.records, s.rayGrads, n);
     }
   });
   if (surfaceLearns) anchorMeanHeight(s);
   mark("backward");
   if (surfaceLearns && !s.height) {
     planeAdamStep(s, planeHeightGradient(s));
+    HeightSource source = currentHeightSource(s);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, source); });
   }
 
@@ -510,9 +534,9 @@ StepResult trainStep(TrainSession& s) {
   mark("sync");
   if (timing) std::fprintf(stderr, "\n");
 
-  r.imageLoss = lossResult[0];
+  r.imageLoss = forward.imageLoss;
   r.loss = r.imageLoss + c.densityLossWeight * densitySquares / double(count) + priorEnergy;
-  r.psnr = batchPsnr(rendered, target);
+  r.psnr = batchPsnr(forward.rendered, forward.target);
   r.gaussians = uint32_t(s.gaussians.count());
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");
   s.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -107,6 +107,35 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
 // One optimisation step (advances session.step).
 StepResult trainStep(TrainSession& session);
 
+// The parts of a step, for trainStep and for checks that differentiate a fixed batch
+// (engine/train/gradient_check.h).
+// One step's batch: a training view and the rectangle of its pixels traced (the whole image,
+// or with config.patch a random patch of it).
+struct StepBatch {
+  uint32_t view = 0;  // index into the train split
+  uint32_t x0 = 0, y0 = 0, width = 0, height = 0;
+  bool patch = false;
+  uint32_t rays() const { return width * height; }
+};
+// The next view of the shuffled pass and, with config.patch, its patch (advances the rng).
+StepBatch nextStepBatch(TrainSession& session);
+// The trace options of step t (background, SH degree, hit records) for this batch; also sets
+// the surface's face-normal switch for step t.
+TraceOptions stepTraceOptions(TrainSession& session, const StepBatch& batch, int t);
+struct BatchForward {
+  double imageLoss = 0;  // 0.8 L1 + 0.2 (1 - SSIM) of the batch
+  std::vector<float> rendered, target;  // rgb per ray
+};
+// Camera rays -> water (unless --no-refraction) -> Gaussians -> image loss, at the session's
+// current parameters; leaves dL/d(rendered) in session.dLoss for cmdBackwardBatch.
+BatchForward forwardBatch(TrainSession& session, const StepBatch& batch, const TraceOptions& options);
+// Records the backward of the last forwardBatch: per-Gaussian gradients into session.grads
+// (and statistics), per-ray dL/d(ray) and, when the surface learns, dL/d(height parameters)
+// added to session.heightGrad (the MLP; the plane's lattice gradients stay in the surface).
+// session.grads and session.stats must have been cleared.
+void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& session, const StepBatch& batch, const TraceOptions& options,
+                      bool surfaceLearns);
+
 // SH degree and face-normal switch in force at step t (1-based), from the schedule.
 uint32_t shDegreeAt(const TrainConfig& config, int step);
 
