@@ -308,6 +308,69 @@ LearnedHeights learnedHeights(const fs::path& run) {
   return {std::vector<float>(h.data.begin(), h.data.end()), GridLayout{n - 1, n - 1, n, 0, 1.0, 1.0}};
 }
 
+TEST_CASE("train: --surface-batch steps the surface once per N steps, survives config.json, and is validated") {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  // The flat plane learns from step 0; with N = 3 its first Adam step (a move of exactly the
+  // learning rate) comes at step 3, not before.
+  std::string flat = " --flat-water --surface-lr 0.02 --surface-freeze 0 --lr-steps 100000000 --gaussians 200 --patch 16 --checkpoint-every 0 --surface-batch 3";
+  CHECK(test::trainAndReadMetrics(data, dir / "two", flat + " --steps 2")["flat_water_height"].get<double>() == 0.0);
+  CHECK(std::abs(test::trainAndReadMetrics(data, dir / "three", flat + " --steps 3")["flat_water_height"].get<double>()) ==
+        doctest::Approx(0.02).epsilon(1e-3));
+  // The height MLP likewise: its heights after 2 steps are the frozen field's.
+  std::string mlp = " --surface-lr 0.01 --surface-freeze 0 --mlp-width 16 --mlp-layers 1 --gaussians 200 --patch 16 --checkpoint-every 0";
+  test::trainAndReadMetrics(data, dir / "frozen", mlp + " --steps 2 --surface-freeze 5");
+  test::trainAndReadMetrics(data, dir / "mlp2", mlp + " --steps 2 --surface-batch 3");
+  test::trainAndReadMetrics(data, dir / "mlp3", mlp + " --steps 3 --surface-batch 3");
+  std::vector<float> frozen = learnedHeights(dir / "frozen").heights;
+  CHECK(learnedHeights(dir / "mlp2").heights == frozen);
+  CHECK(learnedHeights(dir / "mlp3").heights != frozen);
+
+  TrainConfig c = trainConfigFromJson(readJson(dir / "mlp3/config.json"), "config.json");
+  CHECK(c.surfaceBatch == 3);
+  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").surfaceBatch == 3);
+  for (int bad : {0, -1, 100001}) {
+    c.surfaceBatch = bad;
+    CHECK_THROWS_AS(validateTrainConfig(c), Error);
+  }
+  test::CliResult r = test::runCli("train " + data + " -o " + (dir / "bad") + " --surface-batch 0");
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find("surface-batch") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "bad"));
+}
+
+GPU_TEST_CASE("train: a checkpoint in the middle of a --surface-batch sum resumes with the sum") {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  Dataset d;
+  TrainConfig c = test::sessionConfig(data, 10, 300, 16, rng(), d);
+  c.mlpWidth = 16;
+  c.mlpHiddenLayers = 1;
+  c.schedule.surfaceFreeze = 0;
+  c.surfaceLearningRate = 1e-2;
+  c.surfaceBatch = 4;
+  auto whole = createTrainSession(ctx, c, d);
+  while (whole->step < 10) trainStep(*whole);
+
+  auto first = createTrainSession(ctx, c, d);
+  while (first->step < 6) trainStep(*first);  // two of step 8's four gradients summed
+  saveCheckpoint(*first, dir / "split");
+  first.reset();
+  auto second = createTrainSession(ctx, c, d);
+  loadCheckpoint(*second, latestCheckpoint(dir / "split"));
+  while (second->step < 10) trainStep(*second);
+
+  // The same surface steps on the same sums: the weights agree up to the float-atomic sums'
+  // order. The first sum's two steps would be lost without it, and that moves step 8 by a
+  // large part of the learning rate.
+  std::vector<float> a = downloadWeights(ctx, *whole->height), b = downloadWeights(ctx, *second->height);
+  REQUIRE(a.size() == b.size());
+  double most = 0;
+  for (size_t i = 0; i < a.size(); i++) most = std::max(most, std::abs(double(a[i]) - b[i]));
+  MESSAGE("largest weight difference " << most << " (learning rate " << c.surfaceLearningRate << ")");
+  CHECK(most < 1e-3 * c.surfaceLearningRate);
+}
+
 // A surface prior's weight: config.json keeps the run's value (and 0 for the run without it),
 // and a negative or non-finite weight is refused.
 void checkPriorWeightKeptAndValidated(const fs::path& withPrior, double weight, const fs::path& without, double TrainConfig::*field) {

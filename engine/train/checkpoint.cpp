@@ -14,7 +14,9 @@ namespace refrax {
 namespace {
 
 constexpr char kMagic[8] = {'R', 'F', 'X', 'C', 'K', 'P', 'T', '\0'};
-constexpr uint32_t kVersion = 1;
+// Version 2 added the surface gradients summed since the last surface step (--surface-batch);
+// version 1 files (every step a surface step) load with those sums at zero.
+constexpr uint32_t kVersion = 2;
 constexpr int kKept = 2;
 
 uint32_t fnv1a(const char* data, size_t n) {
@@ -121,11 +123,13 @@ void saveCheckpoint(TrainSession& s, const std::string& runDir) {
     w.vec(downloadVector<float>(ctx, s.heightAdam.m, heightCount));
     w.vec(downloadVector<float>(ctx, s.heightAdam.v, heightCount));
     w.value(int32_t(s.heightAdam.step));
+    w.vec(downloadVector<float>(ctx, s.heightGrad, heightCount));
   }
   w.value(s.planeHeight);
   w.value(s.planeM);
   w.value(s.planeV);
   w.value(int32_t(s.planeStep));
+  w.value(s.planeGrad);
   uint32_t sum = fnv1a(w.bytes.data(), w.bytes.size());
   w.value(sum);
 
@@ -158,7 +162,8 @@ void loadCheckpoint(TrainSession& s, const std::string& path) {
   std::string bytes = readFile(path);
   verifyBytes(bytes, path);
   Reader r{bytes, path, 8};
-  if (r.value<uint32_t>() != kVersion) fail("checkpoint " + path + " has an unsupported version");
+  const uint32_t version = r.value<uint32_t>();
+  if (version != 1 && version != kVersion) fail("checkpoint " + path + " has an unsupported version");
   if (r.section() != waterModelName(s.config.model)) fail("checkpoint " + path + " was written by a different water model");
   int step = r.value<int32_t>();
   double seconds = r.value<double>();
@@ -184,16 +189,18 @@ void loadCheckpoint(TrainSession& s, const std::string& path) {
   std::vector<float> densifyStats = r.vec<float>(count * 2, "the densification statistics");
   uint64_t heightCount = r.value<uint64_t>();
   if (heightCount != (s.height ? s.height->parameterCount : 0)) fail("checkpoint " + path + " has a different height-field size");
-  std::vector<float> weights, hm, hv;
+  std::vector<float> weights, hm, hv, hg(heightCount, 0.0f);
   int heightStep = 0;
   if (s.height) {
     weights = r.vec<float>(heightCount, "the height-field weights");
     hm = r.vec<float>(heightCount, "the height-field Adam moments");
     hv = r.vec<float>(heightCount, "the height-field Adam moments");
     heightStep = r.value<int32_t>();
+    if (version >= 2) hg = r.vec<float>(heightCount, "the height-field gradient sum");
   }
   double planeHeight = r.value<double>(), planeM = r.value<double>(), planeV = r.value<double>();
   int planeStep = r.value<int32_t>();
+  double planeGrad = version >= 2 ? r.value<double>() : 0.0;
   if (r.at + 4 != bytes.size()) fail("checkpoint " + path + " has trailing bytes");
 
   // Everything read and checked: install it.
@@ -215,11 +222,13 @@ void loadCheckpoint(TrainSession& s, const std::string& path) {
     upload(ctx, s.heightAdam.m, hm.data(), hm.size() * 4);
     upload(ctx, s.heightAdam.v, hv.data(), hv.size() * 4);
     s.heightAdam.step = heightStep;
+    upload(ctx, s.heightGrad, hg.data(), hg.size() * 4);
   }
   s.planeHeight = planeHeight;
   s.planeM = planeM;
   s.planeV = planeV;
   s.planeStep = planeStep;
+  s.planeGrad = planeGrad;
   s.plane.waves.base = float(planeHeight);
   if (s.surface) {
     HeightSource src = currentHeightSource(s);

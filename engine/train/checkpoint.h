@@ -1,6 +1,7 @@
 #pragma once
 // Training checkpoints: every parameter (Gaussian table, height-field weights or plane
-// height), every Adam moment and step, the step count, the RNG and the view order, so that
+// height), every Adam moment and step, the surface gradient summed since its last step
+// (--surface-batch), the step count, the RNG and the view order, so that
 // resuming continues exactly where the run stopped. RUN/checkpoints/step_NNNNNNN.ckpt,
 // written atomically (temp file + rename); the two newest are kept.
 //

@@ -88,6 +88,12 @@ struct TrainConfig {
   // Adam learning rate of the surface (MLP weights, or the flat plane's height) at step 0,
   // decaying exponentially to 1/100 of it over lrSteps; reference 5e-4 (DESIGN 1.6).
   double surfaceLearningRate = 5e-4;
+  // The surface's Adam step every this many steps, on the gradient summed over them (the
+  // views in between); 1 (the reference): every step. Why: one view's gradient is right for
+  // that view (refrax gradcheck) but views disagree; on the weak-wave presets Adam, which
+  // steps about the learning rate whatever the gradient's size, walked the surface away on
+  // their disagreement (README).
+  int surfaceBatch = 1;
   // Weight of the slope prior (engine/surface_prior.h) added to the loss while the surface
   // learns; 0 (the reference): none.
   double surfaceSmoothness = 0;

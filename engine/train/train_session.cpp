@@ -464,6 +464,9 @@ StepResult trainStep(TrainSession& s) {
   fillBuffer(ctx, s.stats, 0);
   const bool priorOn = surfaceLearns && s.height && (c.surfaceSmoothness > 0 || c.levelPrior > 0);
   const double priorEnergy = priorOn ? uploadSurfacePriorGradient(s) : 0.0;
+  // --surface-batch: the gradients of surfaceBatch steps add up in heightGrad (planeGrad)
+  // before one Adam step, counted from the step the surface starts learning.
+  const bool surfaceSteps = surfaceLearns && (t - c.schedule.surfaceFreeze) % c.surfaceBatch == 0;
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     cmdBackwardBatch(cb, s, batch, opt, surfaceLearns);
     if (surfaceLearns && s.height) {
@@ -471,8 +474,10 @@ StepResult trainStep(TrainSession& s) {
         heightSource(*s.height, s.heightGrad).accumulateGradients(cb, s.surface->gridPoints, s.priorGrad, s.surface->gridPointCount);
         cmdBarrier(cb);
       }
-      cmdAdamStep(cb, s.adamPipelines, s.heightAdam, s.height->weights, s.heightGrad, 0, true);
-      cmdBarrier(cb);
+      if (surfaceSteps) {
+        cmdAdamStep(cb, s.adamPipelines, s.heightAdam, s.height->weights, s.heightGrad, 0, true);
+        cmdBarrier(cb);
+      }
       // The next step's encoding window (recorded after the backward, which used this step's):
       // the proxy mesh the next step traces is lifted by the field it will differentiate.
       s.height->config.encodingWindow = encodingWindowAfterStep(c, t);
@@ -481,8 +486,10 @@ StepResult trainStep(TrainSession& s) {
   });
   if (surfaceLearns) anchorMeanHeight(s);
   mark("backward");
-  if (surfaceLearns && !s.height) {
-    planeAdamStep(s, planeHeightGradient(s));
+  if (surfaceLearns && !s.height) s.planeGrad += planeHeightGradient(s);
+  if (surfaceSteps && !s.height) {
+    planeAdamStep(s, s.planeGrad);
+    s.planeGrad = 0;
     HeightSource source = currentHeightSource(s);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, source); });
   }

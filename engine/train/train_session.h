@@ -68,6 +68,7 @@ struct TrainSession {
   Buffer priorGrad;  // --surface-smoothness: dE/dheight at the coarse grid's vertices (surface_prior.h)
   AnalyticHeightField plane;  // waves zero, base = planeHeight
   double planeHeight = 0, planeM = 0, planeV = 0;
+  double planeGrad = 0;  // dL/d(plane height) summed since the last plane step (--surface-batch)
   int planeStep = 0;
   std::optional<WaterSurface> surface;
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
