@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every preset (issue 6's closing table): test PSNR, SSIM, surface RMSE and training time of the
 # refraction model with the long CI test's method (refraction-sweep: the level prior and the
-# Gaussians drawn at a plane sweep's depth, afresh at two restarts), of the refraction model
+# Gaussians drawn at a plane sweep's depth, afresh at two restarts; and one surface step per
+# 20 views, --surface-batch 20), of the refraction model
 # with and without the slope prior (--surface-smoothness), next to
 # --flat-water and --no-refraction on the same data, seed and steps,
 # for each NeRFrac-like preset (3 x 3 downward rig, IOR 1.1) and each RefracGS-like scene
@@ -15,7 +16,7 @@
 #            short-run surface settings (3 octaves, --surface-lr 3e-3, the surface learning from
 #            step 200, the anchored mean height; README "Training"), and the same with
 #            --surface-smoothness 0.1 (refraction-smooth), and the same with --level-prior 1000
-#            --init-depth sweep --restart-gaussians 500,800 (refraction-sweep). 45 runs, about
+#            --init-depth sweep --restart-gaussians 500,800 --surface-batch 20 (refraction-sweep). 45 runs, about
 #            60 minutes on this 2-core lavapipe machine.
 #   --full   full-size presets (392 px NeRFrac-like, 400 x 300 RefracGS-like), the reference
 #            schedule: 15,000 whole-image steps, 20,000 initial Gaussians, SH degree 3 (a GPU).
@@ -63,7 +64,9 @@ esac
 [[ $smoothness =~ ^[0-9]+([.][0-9]+)?([eE][-+]?[0-9]+)?$ ]] || { echo "presets: --smoothness needs a number >= 0, not '$smoothness'" >&2; exit 2; }
 [ "$refraction_options" = unset ] || refraction=$refraction_options
 smooth="--surface-smoothness $smoothness"
-sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts"
+# --surface-batch 20: one surface step per 20 views' summed gradient (without it the surface ran
+# away on 5 of the 9 tiny presets; README "Training")
+sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts --surface-batch 20"
 models=("refraction-sweep|$refraction $sweep" "refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
 all_presets=$(IFS=,; echo "${presets[*]}")
 csv=$out/presets.csv
