@@ -11,15 +11,22 @@ cmake --build build -j"$(nproc)"
 ./build/refrax selftest --validation
 
 OUT="${REFRAX_DEMO_DIR:-demo-out}"
-STEPS="${REFRAX_DEMO_STEPS:-300}"
+STEPS="${REFRAX_DEMO_STEPS:-1500}"
 GAUSSIANS="${REFRAX_DEMO_GAUSSIANS:-2000}"
 PATCH="${REFRAX_DEMO_PATCH:-32}"
 rm -rf "$OUT"
 mkdir -p "$OUT"
 ./build/refrax synth nerfrac-primary-sine --size tiny -o "$OUT/data"
-COMMON=(--steps "$STEPS" --gaussians "$GAUSSIANS" --patch "$PATCH" --progress-every 50 --checkpoint-every 100)
+COMMON=(--steps "$STEPS" --gaussians "$GAUSSIANS" --max-gaussians $((2 * GAUSSIANS)) --patch "$PATCH" --density-reset-every 0
+        --sh-degree 0 --progress-every 100 --checkpoint-every 500)
+# The refraction model with the presets table's method (bench/presets.sh refraction-sweep, README):
+# the fast surface settings, the level prior, Gaussians drawn at a plane sweep's depth (afresh
+# at a third and a half of the run) and one surface step per 20 views.
+REFRACTION=(--mlp-coarse-octaves 3 --octaves-open-until 100000000 --surface-lr 3e-3 --surface-freeze $((STEPS * 2 / 15))
+            --anchor-mean-height --level-prior 1000 --init-depth sweep --restart-gaussians $((STEPS / 3)),$((STEPS * 8 / 15))
+            --surface-batch 20)
 for model in refraction flat-water no-refraction; do
-  flag=(); [ "$model" = refraction ] || flag=(--"$model")
+  flag=("${REFRACTION[@]}"); [ "$model" = refraction ] || flag=(--"$model")
   # stdout of train is its one-line summary (progress goes to stderr)
   echo "$model: $(./build/refrax train "$OUT/data" -o "$OUT/$model" "${flag[@]}" "${COMMON[@]}")" >>"$OUT/summary.txt"
 done
