@@ -74,13 +74,21 @@ GPU_TEST_CASE("gradcheck: the trainer's water gradient matches central differenc
   CHECK(downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount) == heightsBefore);
 }
 
-GPU_TEST_CASE("gradcheck: a direction of the wrong size, and a session without learned water, are clear errors") {
+GPU_TEST_CASE("gradcheck: keeps a pending --surface-batch sum; a wrong-size direction or no learned water is a clear error") {
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset d;
   TrainConfig c = test::sessionConfig(data, 10, 200, 16, rng(), d);
   c.mlpWidth = 16;
   c.mlpHiddenLayers = 1;
+  c.schedule.surfaceFreeze = 0;
+  c.surfaceBatch = 4;
   auto s = createTrainSession(ctx, c, d);
+  trainStep(*s);
+  trainStep(*s);  // two of four gradients summed, no surface step yet
+  const std::vector<float> pending = downloadVector<float>(ctx, s->heightGrad, s->height->parameterCount);
+  CHECK(std::any_of(pending.begin(), pending.end(), [](float g) { return g != 0.0f; }));
+  checkSurfaceGradient(*s, nextStepBatch(*s), {}, {1e-3});
+  CHECK(downloadVector<float>(ctx, s->heightGrad, s->height->parameterCount) == pending);
   StepBatch batch = nextStepBatch(*s);
   CHECK_THROWS_WITH_AS(checkSurfaceGradient(*s, batch, {1.0, 2.0}, {1e-3}), doctest::Contains("direction has 2 values"), Error);
   c.model = WaterModel::FlatWater;

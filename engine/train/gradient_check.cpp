@@ -27,13 +27,14 @@ SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batc
   const TraceOptions opt = stepTraceOptions(s, batch, s.step + 1);
   SurfaceGradientCheck r;
   r.loss = forwardBatch(s, batch, opt).imageLoss;
+  // The gradient summed since the last surface step (--surface-batch), put back at the end.
+  const std::vector<float> pendingSum = downloadVector<float>(ctx, s.heightGrad, s.height->parameterCount);
   fillBuffer(ctx, s.grads, 0);
   fillBuffer(ctx, s.stats, 0);
   fillBuffer(ctx, s.heightGrad, 0);
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBackwardBatch(cb, s, batch, opt, true); });
   std::vector<float> gradient = downloadVector<float>(ctx, s.heightGrad, s.height->parameterCount);
   const std::vector<GpuRayGrad> rayGrads = downloadVector<GpuRayGrad>(ctx, s.rayGrads, batch.rays());
-  fillBuffer(ctx, s.heightGrad, 0);  // as the step's Adam leaves it
   for (float g : gradient) r.gradientNorm += double(g) * g;
   r.gradientNorm = std::sqrt(r.gradientNorm);
   if (direction.empty()) direction.assign(gradient.begin(), gradient.end());
@@ -80,6 +81,7 @@ SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batc
     r.heightChanges.push_back(change);
   }
   liftSurface(s, weights);
+  upload(ctx, s.heightGrad, pendingSum.data(), pendingSum.size() * 4);
   return r;
 }
 

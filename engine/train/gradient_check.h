@@ -27,8 +27,9 @@ struct SurfaceGradientCheck {
 };
 
 // Along `direction` (normalised here; empty: the backward's own gradient, so slope is its
-// norm). Needs the MLP water (the refraction model). The session's weights, surface and
-// Gaussians are as before when it returns; its rng and view order are untouched.
+// norm). Needs the MLP water (the refraction model). The session's weights, surface, Gaussians
+// and pending surface-gradient sum are as before when it returns (the per-step scratch is not);
+// its rng and view order are untouched.
 SurfaceGradientCheck checkSurfaceGradient(TrainSession& session, const StepBatch& batch, std::vector<double> direction,
                                           const std::vector<double>& steps);
 
