@@ -74,7 +74,7 @@ GPU_TEST_CASE("gradcheck: the trainer's water gradient matches central differenc
   CHECK(downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount) == heightsBefore);
 }
 
-GPU_TEST_CASE("gradcheck: keeps a pending --surface-batch sum; a wrong-size direction or no learned water is a clear error") {
+GPU_TEST_CASE("gradcheck: keeps a pending --surface-batch sum, and a wrong-size direction or no learned water is a clear error") {
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset d;
   TrainConfig c = test::sessionConfig(data, 10, 200, 16, rng(), d);
