@@ -2,6 +2,7 @@
 // central differences of the loss, batch by batch (engine/train/gradient_check.h). A ratio
 // near 1 at the small steps means the chain from the image loss to the height MLP is right
 // there; a ratio that is off, or of the wrong sign, names the batch to look at.
+#include <cmath>
 #include <cstdio>
 
 #include "engine/error.h"
