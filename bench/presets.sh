@@ -2,7 +2,7 @@
 # Every preset (issue 6's closing table): test PSNR, SSIM, surface RMSE and training time of the
 # refraction model with the long CI test's method (refraction-sweep: the level prior and the
 # Gaussians drawn at a plane sweep's depth, afresh at two restarts; and one surface step per
-# 20 views, --surface-batch 20), of the refraction model
+# pass over the training views, --surface-batch views), of the refraction model
 # with and without the slope prior (--surface-smoothness), next to
 # --flat-water and --no-refraction on the same data, seed and steps,
 # for each NeRFrac-like preset (3 x 3 downward rig, IOR 1.1) and each RefracGS-like scene
@@ -11,12 +11,13 @@
 # Usage: bench/presets.sh [--full | --smoke] [--out DIR] [--keep-work] [--charts-only]
 #                         [--models refraction-sweep,refraction,refraction-smooth,flat-water,no-refraction]
 #                         [--presets NAME,...] [--refraction-options "OPTS"] [--smoothness X]
+#                         [--dataset-size tiny|full] [--steps N]
 #   default  tiny presets (64 px wide), 1,500 steps of 32 x 32 patches, 2,000 initial Gaussians
 #            capped at 4,000, no density resets, SH degree 0; the refraction model with the
 #            short-run surface settings (3 octaves, --surface-lr 3e-3, the surface learning from
 #            step 200, the anchored mean height; README "Training"), and the same with
 #            --surface-smoothness 0.1 (refraction-smooth), and the same with --level-prior 1000
-#            --init-depth sweep --restart-gaussians 500,800 --surface-batch 20 (refraction-sweep). 45 runs, about
+#            --init-depth sweep --restart-gaussians 500,800 --surface-batch views (refraction-sweep). 45 runs, about
 #            60 minutes on this 2-core lavapipe machine.
 #   --full   full-size presets (392 px NeRFrac-like, 400 x 300 RefracGS-like), the reference
 #            schedule: 15,000 whole-image steps, 20,000 initial Gaussians, SH degree 3 (a GPU).
@@ -27,6 +28,11 @@
 #            the reference surface settings: 6 octaves, --surface-lr 5e-4, frozen 1/15 of the run;
 #            refraction-smooth adds --surface-smoothness X to them, refraction-sweep the level
 #            prior, the sweep and the restarts).
+#   --dataset-size tiny|full  the presets at this size, trained with the mode's settings (default:
+#            the mode's size) -- the full-size table on a CPU: --dataset-size full --steps 6000
+#            (training time per step does not grow with the images: 32 x 32 patches).
+#   --steps N  train N steps instead of the mode's (the refraction-sweep restarts move with it,
+#            to a third and eight fifteenths of the run, as 500,800 of 1,500).
 #   --smoothness X  the slope prior's weight for refraction-smooth (default 0.1; 0.01 held
 #            2 of the 4 presets whose surface ran away and let a stable one drift, see README).
 # Writes DIR/presets.csv (one row per run: preset and variant, then `refrax report`'s columns) and
@@ -39,11 +45,15 @@ only_models=""
 only_presets=""
 refraction_options=unset
 smoothness=0.1
+dataset_size=""
+steps_override=""
 args=()
 while [ $# -gt 0 ]; do
   case $1 in
     --models) [ $# -ge 2 ] || { echo "presets: --models needs a list" >&2; exit 2; }; only_models=$2; shift ;;
     --presets) [ $# -ge 2 ] || { echo "presets: --presets needs a list" >&2; exit 2; }; only_presets=$2; shift ;;
+    --dataset-size) [ $# -ge 2 ] && { [ "$2" = tiny ] || [ "$2" = full ]; } || { echo "presets: --dataset-size needs tiny or full" >&2; exit 2; }; dataset_size=$2; shift ;;
+    --steps) [ $# -ge 2 ] && [[ $2 =~ ^[0-9]+$ ]] && [ "$2" -ge 15 ] || { echo "presets: --steps needs a step count (15 or more)" >&2; exit 2; }; steps_override=$2; shift ;;
     --smoothness) [ $# -ge 2 ] || { echo "presets: --smoothness needs a number" >&2; exit 2; }; smoothness=$2; shift ;;
     --refraction-options) [ $# -ge 2 ] || { echo "presets: --refraction-options needs a string" >&2; exit 2; }; refraction_options=$2; shift ;;
     *) args+=("$1") ;;
@@ -61,12 +71,17 @@ case $mode in
   full) steps=15000 common="" refraction="" restarts=5000,7500 ;;
   smoke) steps=20 common="--patch 16 --gaussians 300 --sh-degree 0" refraction=$short_run restarts=10 presets=(nerfrac-hybrid desk) ;;
 esac
+if [ -n "$steps_override" ]; then
+  steps=$steps_override
+  restarts=$((steps / 3)),$((steps * 8 / 15))
+fi
+[ -z "$dataset_size" ] || size=$dataset_size
 [[ $smoothness =~ ^[0-9]+([.][0-9]+)?([eE][-+]?[0-9]+)?$ ]] || { echo "presets: --smoothness needs a number >= 0, not '$smoothness'" >&2; exit 2; }
 [ "$refraction_options" = unset ] || refraction=$refraction_options
 smooth="--surface-smoothness $smoothness"
-# --surface-batch 20: one surface step per 20 views' summed gradient (without it the surface ran
-# away on 5 of the 9 tiny presets; README "Training")
-sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts --surface-batch 20"
+# --surface-batch views: one surface step per pass over the training views, on their summed
+# gradient (without it the surface ran away on 5 of the 9 tiny presets; README "Training")
+sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts --surface-batch views"
 models=("refraction-sweep|$refraction $sweep" "refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
 all_presets=$(IFS=,; echo "${presets[*]}")
 csv=$out/presets.csv
@@ -134,7 +149,7 @@ def num(r, k, fmt):
     v = r.get(k, "")
     return format(float(v), fmt) if v not in ("", "nan") else "-"
 lines = [
-    "# Every preset: refraction against a flat plane and straight rays ($mode)", "",
+    "# Every preset: refraction against a flat plane and straight rays ($size presets, $steps steps, $mode settings)", "",
     "Device: $device. Generated by \`$invocation\` on $(date -u +%Y-%m-%d).",
     "$load_line", "",
     "Sizes: \`refrax synth <preset> --size $size\`; every run \`--steps $steps $common\`; the refraction model adds",
@@ -147,7 +162,8 @@ lines = [
 by = {(r["preset"], r["variant"]): r for r in rows}
 for preset in dict.fromkeys(r["preset"] for r in rows):
     ref = by.get((preset, "refraction-sweep"))
-    for model in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "no-refraction"):
+    # the models run on some preset (the full-size table runs three of the five)
+    for model in (m for m in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "no-refraction") if any(r["variant"] == m for r in rows)):
         r = by.get((preset, model))
         if r is None:
             lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | |")

@@ -21,10 +21,10 @@ COMMON=(--steps "$STEPS" --gaussians "$GAUSSIANS" --max-gaussians $((2 * GAUSSIA
         --sh-degree 0 --progress-every 100 --checkpoint-every 500)
 # The refraction model with the presets table's method (bench/presets.sh refraction-sweep, README):
 # the fast surface settings, the level prior, Gaussians drawn at a plane sweep's depth (afresh
-# at a third and a half of the run) and one surface step per 20 views.
+# at a third and a half of the run) and one surface step per pass over the 8 training views.
 REFRACTION=(--mlp-coarse-octaves 3 --octaves-open-until 100000000 --surface-lr 3e-3 --surface-freeze $((STEPS * 2 / 15))
             --anchor-mean-height --level-prior 1000 --init-depth sweep --restart-gaussians $((STEPS / 3)),$((STEPS * 8 / 15))
-            --surface-batch 20)
+            --surface-batch views)
 for model in refraction flat-water no-refraction; do
   flag=("${REFRACTION[@]}"); [ "$model" = refraction ] || flag=(--"$model")
   # stdout of train is its one-line summary (progress goes to stderr)

@@ -59,7 +59,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
   c.anchorMeanHeight = a.has("anchor-mean-height");
   c.mlpInitRange = a.getDouble("mlp-init-range", 1e-3);
   c.surfaceLearningRate = a.getDouble("surface-lr", 5e-4);
-  c.surfaceBatch = int(a.getIntIn("surface-batch", 1, 1, 100000));
+  c.surfaceBatch = a.get("surface-batch", "1") == "views" ? 0 : int(a.getIntIn("surface-batch", 1, 1, 100000));
   c.surfaceSmoothness = a.getDouble("surface-smoothness", 0.0);
   c.levelPrior = a.getDouble("level-prior", 0.0);
   c.gridCells = positiveCount(a, "grid-cells", 64, 1, 4096);
@@ -178,7 +178,7 @@ std::vector<cli::Option> trainOptions() {
       {"patch", "P", "train on one random P x P patch per step (0: whole images); ~P^2/(w h) of the time per step", "0"},
       {"density-decay", "X", "density multiplier every --density-decay-every steps", "0.99"},
       {"density-loss", "X", "weight of the density loss X mean(density^2) over all Gaussians (0: off, the paper's ablation)", "0.007"},
-      {"surface-batch", "N", "one surface Adam step every N steps, on the gradient summed over their N views (1: every step, the reference)", "1"},
+      {"surface-batch", "N|views", "one surface Adam step every N steps, on the gradient summed over their N views (1: every step, the reference; views: the training view count, one step per pass over the views, which the shuffled order visits once each when the surface starts learning at a pass's start)", "1"},
       {"surface-freeze", "N", "surface frozen for the first N steps", "1000 x steps/15000"},
       {"face-normals-until", "N", "flat face normals until step N, then interpolated", "7500 x steps/15000"},
       {"surface-smoothness", "X", "weight of a slope prior on the water, X mean((h_a - h_b) / spacing)^2 over the coarse grid's edges: damps a fast surface's runaway (0.1 left 2 of 9 tiny presets running away, 4 without; README)", "0"},

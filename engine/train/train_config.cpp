@@ -80,7 +80,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.mlpWidth >= 1 && c.mlpHiddenLayers >= 1 && c.mlpOctaves <= 16, "height field sizes (--mlp-width, --mlp-layers >= 1, --mlp-octaves <= 16)");
   need(std::isfinite(c.mlpInitRange) && c.mlpInitRange >= 0, "--mlp-init-range must be >= 0");
   need(std::isfinite(c.surfaceLearningRate) && c.surfaceLearningRate > 0 && c.surfaceLearningRate < 1, "--surface-lr must be in (0, 1)");
-  need(c.surfaceBatch >= 1 && c.surfaceBatch <= 100000, "--surface-batch must be in [1, 100000]");
+  need(c.surfaceBatch >= 0 && c.surfaceBatch <= 100000, "--surface-batch must be views or in [1, 100000]");
   need(std::isfinite(c.surfaceSmoothness) && c.surfaceSmoothness >= 0, "--surface-smoothness must be finite and >= 0");
   need(std::isfinite(c.levelPrior) && c.levelPrior >= 0, "--level-prior must be finite and >= 0");
   need(c.gridCells >= 1 && c.gridCells <= 4096, "--grid-cells must be 1..4096");
@@ -138,7 +138,10 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["anchor_mean_height"] = c.anchorMeanHeight;
   j["mlp_init_range"] = c.mlpInitRange;
   j["surface_lr"] = c.surfaceLearningRate;
-  j["surface_batch"] = c.surfaceBatch;
+  if (c.surfaceBatch == 0)
+    j["surface_batch"] = "views";
+  else
+    j["surface_batch"] = c.surfaceBatch;
   j["surface_smoothness"] = c.surfaceSmoothness;
   j["level_prior"] = c.levelPrior;
   j["grid_cells"] = c.gridCells;
@@ -209,7 +212,9 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.anchorMeanHeight = j.value("anchor_mean_height", false);  // runs written before the option: every octave open
     c.mlpInitRange = j.at("mlp_init_range").get<double>();
     c.surfaceLearningRate = j.value("surface_lr", 5e-4);  // runs written before the option: the reference
-    c.surfaceBatch = j.value("surface_batch", 1);
+    // "views" is 0 in TrainConfig; anything but it or a count >= 1 is refused by the validation below.
+    const nlohmann::json batch = j.value("surface_batch", nlohmann::json(1));
+    c.surfaceBatch = batch == "views" ? 0 : batch.is_number_integer() && batch.get<long>() >= 1 ? int(std::min(batch.get<long>(), 1000000L)) : -1;
     c.surfaceSmoothness = j.value("surface_smoothness", 0.0);  // runs written before the option: no prior
     c.levelPrior = j.value("level_prior", 0.0);                // likewise
     c.gridCells = j.at("grid_cells").get<uint32_t>();

@@ -92,7 +92,8 @@ struct TrainConfig {
   // views in between); 1 (the reference): every step. Why: one view's gradient is right for
   // that view (refrax gradcheck) but views disagree; on the weak-wave presets Adam, which
   // steps about the learning rate whatever the gradient's size, walked the surface away on
-  // their disagreement (README).
+  // their disagreement (README). 0 (--surface-batch views): the training view count, one
+  // surface step per pass over the views (surfaceBatchSteps).
   int surfaceBatch = 1;
   // Weight of the slope prior (engine/surface_prior.h) added to the loss while the surface
   // learns; 0 (the reference): none.

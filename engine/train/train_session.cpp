@@ -349,6 +349,10 @@ void applyDensitySchedule(TrainSession& s, int t) {
 
 }  // namespace
 
+int surfaceBatchSteps(const TrainSession& s) {
+  return s.config.surfaceBatch > 0 ? s.config.surfaceBatch : int(s.dataset.split("train").size());
+}
+
 StepBatch nextStepBatch(TrainSession& s) {
   const auto& trainViews = s.dataset.split("train");
   if (s.viewCursor >= s.viewOrder.size()) shuffleViews(s);
@@ -466,7 +470,7 @@ StepResult trainStep(TrainSession& s) {
   const double priorEnergy = priorOn ? uploadSurfacePriorGradient(s) : 0.0;
   // --surface-batch: the gradients of surfaceBatch steps add up in heightGrad (planeGrad)
   // before one Adam step, counted from the step the surface starts learning.
-  const bool surfaceSteps = surfaceLearns && (t - c.schedule.surfaceFreeze) % c.surfaceBatch == 0;
+  const bool surfaceSteps = surfaceLearns && (t - c.schedule.surfaceFreeze) % surfaceBatchSteps(s) == 0;
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     cmdBackwardBatch(cb, s, batch, opt, surfaceLearns);
     if (surfaceLearns && s.height) {

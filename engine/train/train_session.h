@@ -105,6 +105,10 @@ WaterSurfaceConfig surfaceConfigFor(const TrainSession& s);
 
 std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig& config, Dataset dataset);
 
+// Steps per surface Adam step: config.surfaceBatch, or with 0 (--surface-batch views) the
+// training view count.
+int surfaceBatchSteps(const TrainSession& session);
+
 // One optimisation step (advances session.step).
 StepResult trainStep(TrainSession& session);
 
