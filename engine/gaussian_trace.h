@@ -39,6 +39,7 @@ struct GpuTraceResult {
   uint32_t rounds;      // k-buffer rounds traced
 };
 static_assert(sizeof(GpuTraceResult) == 32, "GpuTraceResult must match the std430 TraceResult");
+constexpr uint32_t kTraceResultFloats = sizeof(GpuTraceResult) / 4;  // rgb first
 
 // Hit records: a training forward writes, per ray, the hits it blended in order (Gaussian
 // id and unclamped alpha, 8 bytes each; HitRecord in gaussian_trace_types.glsl), and the

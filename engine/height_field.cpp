@@ -9,6 +9,7 @@
 #include "engine/height_field_kernels.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
+#include "engine/vk_profile.h"
 
 namespace refrax {
 
@@ -96,8 +97,10 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
     cmdDispatch(cb, *backprop.pipeline, {bind(hf.weights), bind(points), bind(dLossdHeight), bind(hf.scratch)}, &push,
                 groupsFor(push.count, backprop.groupSize));
     cmdBarrier(cb);
+    profileStage(cb, *hf.ctx, "height backward: activations and deltas");
     if (useTiles) {
       cmdHeightGradTiles(cb, hf, push.count, dLossdWeights);
+      profileStage(cb, *hf.ctx, "height backward: weight gradient");
       continue;
     }
     const ComputePipeline& grad = heightWeightGradPipeline(hf);

@@ -2,6 +2,7 @@
 
 #include "engine/error.h"
 #include "engine/vk_context.h"
+#include "engine/vk_profile.h"
 
 namespace refrax {
 
@@ -11,6 +12,7 @@ void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& rec
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   REFRAX_VK(vkBeginCommandBuffer(cb, &bi));
+  profileSubmitBegin(cb, ctx);
   record(cb);
   REFRAX_VK(vkEndCommandBuffer(cb));
   REFRAX_VK(vkResetFences(ctx.device, 1, &ctx.fence));
@@ -19,6 +21,7 @@ void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& rec
   si.pCommandBuffers = &cb;
   REFRAX_VK(vkQueueSubmit(ctx.queue, 1, &si, ctx.fence));
   REFRAX_VK(vkWaitForFences(ctx.device, 1, &ctx.fence, VK_TRUE, UINT64_MAX));
+  profileSubmitEnd(ctx);
 }
 
 void cmdBarrier(VkCommandBuffer cb) {

@@ -45,6 +45,8 @@ struct ContextOptions {
   std::vector<const char*> extraInstanceExtensions;  // e.g. the window system's surface extensions
 };
 
+struct GpuProfiler;
+
 struct Context {
   VkInstance instance = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
@@ -63,6 +65,8 @@ struct Context {
   // Tests set this to exercise the staging path that discrete GPUs take on a device
   // whose memory the host could map directly (lavapipe).
   bool forceStaging = false;
+  // Set while a run is profiled (engine/vk_profile.h): submitAndWait times every submission.
+  GpuProfiler* profiler = nullptr;
 
   // Validation messages seen so far (warnings and errors of every type).
   std::atomic<int> validationMessageCount{0};

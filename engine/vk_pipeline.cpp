@@ -8,6 +8,7 @@
 #include "engine/vk_accel.h"
 #include "engine/vk_buffer.h"
 #include "engine/vk_context.h"
+#include "engine/vk_profile.h"
 
 namespace refrax {
 
@@ -163,6 +164,7 @@ void cmdDispatch(VkCommandBuffer cb, const ComputePipeline& p, std::initializer_
   if (n) vkCmdPushDescriptorSetKHR(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, uint32_t(n), writes.data());
   if (p.pushBytes) vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, p.pushBytes, push);
   vkCmdDispatch(cb, gx, gy, gz);
+  if (p.ctx && p.ctx->profiler) p.ctx->profiler->dispatches++;
 }
 
 }  // namespace refrax

@@ -1,6 +1,7 @@
 #include "engine/water_surface.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 
@@ -8,6 +9,7 @@
 #include "engine/grid_mesh.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
+#include "engine/vk_profile.h"
 #include "engine/vk_timer.h"
 
 namespace refrax {
@@ -101,7 +103,9 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   if (K > 0 && ws.latticePoints > (uint64_t(1) << 27))
     fail("water surface: the finest lattice ((cells << levels) + 3)^2 = " + std::to_string(ws.latticePoints) +
          " points exceeds 2^27; use fewer cells or levels");
-  uint64_t inserts = std::min<uint64_t>(uint64_t(config.maxRays) * insertsPerRay(K), ws.latticePoints);
+  // Room for one trace of maxRays rays, and for the whole lattice where that is no more than
+  // 4M points (112 MB of tables): the cache then never has to be emptied within a surface step.
+  uint64_t inserts = std::min<uint64_t>(std::max<uint64_t>(uint64_t(config.maxRays) * insertsPerRay(K), uint64_t(1) << 22), ws.latticePoints);
   ws.pointCapacity = uint32_t(std::max<uint64_t>(inserts, 1));
   ws.latticeIndex = createBuffer(ctx, K > 0 ? ws.latticePoints * 4 : 4);
   ws.points = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 8);
@@ -110,6 +114,9 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   ws.evalPoints = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 8);
   ws.evalHeights = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 4);
   ws.counters = createBuffer(ctx, kCounterCount * 4);
+  ws.pushPoints = createBuffer(ctx, (VkDeviceSize(ws.gridPointCount) + ws.pointCapacity) * 8);
+  ws.pushGrads = createBuffer(ctx, (VkDeviceSize(ws.gridPointCount) + ws.pointCapacity) * 4);
+  ws.pushCount = createBuffer(ctx, 4);
   ws.hitNormals = createBuffer(ctx, config.keepHitNormals ? VkDeviceSize(config.maxRays) * 64 : 64);
 
   SurfacePipelines& p = ws.pipelines;
@@ -123,16 +130,40 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   p.refract = createComputePipeline(ctx, "surface_refract", {B, B, B, B, B, B, B, B}, push);
   ws.floatAtomics = ctx.caps.floatAtomicAdd && !forceCasAtomics;
   p.backward = createComputePipeline(ctx, ws.floatAtomics ? "surface_backward" : "surface_backward_cas", {B, B, B, B, B, B, B, B, B}, push);
+  p.compact = createComputePipeline(ctx, "surface_compact_gradients", {B, B, B, B, B}, 4);
 
   SurfacePush pc = basePush(ws);
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     cmdDispatch(cb, p.gridPoints, {bind(ws.gridPoints)}, &pc, groupsFor(ws.gridPointCount, 64));
     vkCmdFillBuffer(cb, ws.counters.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, ws.latticeIndex.buffer, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
   });
   return ws;
 }
 
+namespace {
+// Empties the point cache: every lattice point unrequested, none counted.
+void cmdClearPointCache(VkCommandBuffer cb, WaterSurface& ws) {
+  vkCmdFillBuffer(cb, ws.latticeIndex.buffer, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+  vkCmdFillBuffer(cb, ws.counters.buffer, 0, 4, 0);
+  ws.cachedPoints = 0;
+}
+}  // namespace
+
+bool surfaceCacheHasRoom(const WaterSurface& ws, uint32_t rays) {
+  // A table the size of the lattice holds every point there is.
+  return ws.pointCapacity >= ws.latticePoints ||
+         uint64_t(ws.cachedPoints) + uint64_t(rays) * insertsPerRay(ws.config.subdivisionLevels) <= ws.pointCapacity;
+}
+
 void cmdUpdateSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights) {
+  // The cached points' heights and the pending gradient belong to the heights being replaced.
+  if (ws.gradientPending)
+    fail("water surface: cmdUpdateSurface with a pending height gradient (cmdPushSurfaceGradients first)");
+  static std::atomic<uint64_t> versions{0};
+  ws.heightsVersion = ++versions;
+  cmdClearPointCache(cb, ws);
+  cmdBarrier(cb);
   SurfacePush pc = basePush(ws);
   heights.evaluate(cb, ws.gridPoints, ws.gridPointCount, ws.gridHeights);
   cmdBarrier(cb);
@@ -145,17 +176,30 @@ void cmdUpdateSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& 
   if (ws.top.tlas.built) cmdRefit(cb, ws.top.tlas);
   else cmdBuild(cb, ws.top.tlas);
   cmdBarrier(cb);
+  profileStage(cb, *ws.ctx, "water update (heights, refit)");
   ws.updated = true;
 }
 
 void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, uint32_t count,
-                  Buffer& refractedRays, Buffer& records, SurfaceTimings* timings) {
+                  Buffer& refractedRays, Buffer& records, SurfaceTimings* timings, const SurfaceTraceHooks& hooks) {
   if (!ws.updated) fail("traceSurface before cmdUpdateSurface: the surface has no heights yet");
   if (count > ws.config.maxRays)
     fail("traceSurface with " + std::to_string(count) + " rays; the surface was created for at most " + std::to_string(ws.config.maxRays));
   ws.lastRayCount = count;
   ws.lastCounters = {};
-  if (count == 0) return;
+  ws.lastCounters.points = ws.cachedPoints;
+  if (count == 0) {
+    if (hooks.before || hooks.after)
+      submitAndWait(ctx, [&](VkCommandBuffer cb) {
+        if (hooks.before) hooks.before(cb);
+        cmdBarrier(cb);
+        if (hooks.after) hooks.after(cb);
+      });
+    return;
+  }
+  const bool emptyCache = !surfaceCacheHasRoom(ws, count);
+  if (emptyCache && ws.gradientPending)
+    fail("water surface: the point cache is full while a height gradient is pending (cmdPushSurfaceGradients first)");
   checkBuffer(rays, VkDeviceSize(count) * sizeof(GpuRay), "rays");
   checkBuffer(refractedRays, VkDeviceSize(count) * sizeof(GpuRay), "refracted rays");
   checkBuffer(records, VkDeviceSize(count) * sizeof(SurfaceRecord), "records");
@@ -182,6 +226,7 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
   };
   auto stamp = [&](VkCommandBuffer cb, const std::string& stage) {
     if (timer) cmdTimerStamp(cb, *timer, stage);
+    profileStage(cb, ctx, "water trace: " + stage);
   };
   auto request = [&](VkCommandBuffer cb, int level, uint32_t mode) {
     SurfacePush q = pc;
@@ -218,8 +263,12 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
 
   // Global trace, then the midpoints level 1 needs.
   submit([&](VkCommandBuffer cb) {
-    vkCmdFillBuffer(cb, ws.counters.buffer, 0, VK_WHOLE_SIZE, 0);
-    vkCmdFillBuffer(cb, ws.latticeIndex.buffer, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+    if (hooks.before) {
+      hooks.before(cb);
+      cmdBarrier(cb);
+    }
+    if (emptyCache) cmdClearPointCache(cb, ws);
+    vkCmdFillBuffer(cb, ws.counters.buffer, 4, VK_WHOLE_SIZE, 0);  // this trace's counts; 0 is the cache's
     cmdBarrier(cb);
     stamp(cb, "clear");
     cmdDispatch(cb, p.globalTrace, {bind(ws.top.tlas), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters)}, &pc, groups);
@@ -230,7 +279,7 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
       stamp(cb, "level 1 points");
     }
   });
-  uint32_t evaluated = 0;
+  uint32_t evaluated = ws.cachedPoints;
   for (uint32_t k = 1; k <= K; k++) {
     uint32_t queued = readPointCount();
     std::string level = "level " + std::to_string(k);
@@ -265,32 +314,92 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
                 &pc, groups);
     cmdBarrier(cb);
     stamp(cb, "refract");
+    if (hooks.after) hooks.after(cb);
   });
   ws.lastCounters = readSurfaceCounters(ctx, ws);
+  ws.cachedPoints = ws.lastCounters.points;
 }
 
-void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, const Buffer& records,
-                        const Buffer& rayGrads, uint32_t count) {
+void cmdBackwardSurfaceToHeights(VkCommandBuffer cb, WaterSurface& ws, const Buffer& rays, const Buffer& records, const Buffer& rayGrads,
+                                 uint32_t count) {
   if (count != ws.lastRayCount)
     fail("cmdBackwardSurface for " + std::to_string(count) + " rays after a trace of " + std::to_string(ws.lastRayCount));
   if (count == 0) return;
   checkBuffer(rayGrads, VkDeviceSize(count) * sizeof(GpuRayGrad), "ray gradients");
   SurfacePush pc = basePush(ws);
   pc.count = count;
-  uint32_t points = ws.lastCounters.points;
-  vkCmdFillBuffer(cb, ws.gridGrad.buffer, 0, VK_WHOLE_SIZE, 0);
-  vkCmdFillBuffer(cb, ws.pointGrad.buffer, 0, VK_WHOLE_SIZE, 0);
+  if (!ws.gradientPending) {
+    vkCmdFillBuffer(cb, ws.gridGrad.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, ws.pointGrad.buffer, 0, VK_WHOLE_SIZE, 0);
+  }
   cmdBarrier(cb);
   cmdDispatch(cb, ws.pipelines.backward,
               {bind(rays), bind(records), bind(rayGrads), bind(ws.gridHeights), bind(ws.latticeIndex),
                bind(ws.pointHeights), bind(ws.gridGrad), bind(ws.pointGrad), bind(ws.counters)},
               &pc, groupsFor(count, 64));
   cmdBarrier(cb);
+  profileStage(cb, *ws.ctx, "water backward: to heights");
+  ws.gradientPending = true;
+}
+
+void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights) {
+  if (!ws.gradientPending) return;
   if (heights.accumulateGradients) {
     heights.accumulateGradients(cb, ws.gridPoints, ws.gridGrad, ws.gridPointCount);
-    if (points) heights.accumulateGradients(cb, ws.points, ws.pointGrad, points);
+    if (ws.cachedPoints) heights.accumulateGradients(cb, ws.points, ws.pointGrad, ws.cachedPoints);
     cmdBarrier(cb);
+    profileStage(cb, *ws.ctx, "water backward: to weights");
   }
+  ws.gradientPending = false;
+}
+
+void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g, double scale) {
+  if (g.size() != ws.gridPointCount)
+    fail("water surface: a grid gradient of " + std::to_string(g.size()) + " values for " + std::to_string(ws.gridPointCount) + " grid points");
+  std::vector<float> sum(g.size(), 0.0f);
+  if (ws.gradientPending) sum = downloadVector<float>(ctx, ws.gridGrad, ws.gridPointCount);
+  else fillBuffer(ctx, ws.pointGrad, 0);
+  for (size_t k = 0; k < g.size(); k++) sum[k] = float(double(sum[k]) + scale * double(g[k]));
+  upload(ctx, ws.gridGrad, sum.data(), sum.size() * sizeof(float));
+  ws.gradientPending = true;
+}
+
+void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights) {
+  if (!ws.gradientPending) return;
+  if (!heights.accumulateGradients) {
+    ws.gradientPending = false;
+    return;
+  }
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    vkCmdFillBuffer(cb, ws.pushCount.buffer, 0, VK_WHOLE_SIZE, 0);
+    cmdBarrier(cb);
+    uint32_t n = ws.gridPointCount;
+    cmdDispatch(cb, ws.pipelines.compact, {bind(ws.gridPoints), bind(ws.gridGrad), bind(ws.pushPoints), bind(ws.pushGrads), bind(ws.pushCount)},
+                &n, groupsFor(n, 64));
+    n = ws.cachedPoints;
+    if (n) {
+      cmdBarrier(cb);
+      cmdDispatch(cb, ws.pipelines.compact, {bind(ws.points), bind(ws.pointGrad), bind(ws.pushPoints), bind(ws.pushGrads), bind(ws.pushCount)},
+                  &n, groupsFor(n, 64));
+    }
+    cmdBarrier(cb);
+    profileStage(cb, ctx, "water backward: points with a gradient");
+  });
+  uint32_t listed = 0;
+  download(ctx, ws.pushCount, &listed, 4);
+  if (listed)
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      heights.accumulateGradients(cb, ws.pushPoints, ws.pushGrads, listed);
+      cmdBarrier(cb);
+      profileStage(cb, ctx, "water backward: to weights");
+    });
+  ws.gradientPending = false;
+}
+
+void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, const Buffer& records,
+                        const Buffer& rayGrads, uint32_t count) {
+  cmdBackwardSurfaceToHeights(cb, ws, rays, records, rayGrads, count);
+  cmdPushSurfaceGradients(cb, ws, heights);
 }
 
 SurfaceCounters readSurfaceCounters(Context& ctx, WaterSurface& ws) {

@@ -9,11 +9,21 @@
 //                              number of new lattice points of each level is read back so
 //                              H is evaluated exactly once per unique new point)
 //            cmdBackwardSurface (uses the records and lattice of the last traceSurface)
+//
+// The lattice points a trace evaluates stay in a cache until the heights change
+// (cmdUpdateSurface): later traces of the same surface evaluate only the points it lacks.
+// The backward can be split the same way: cmdBackwardSurfaceToHeights adds dL/dheight of
+// each trace's rays into gridGrad and pointGrad (one entry per cached point), and
+// cmdPushSurfaceGradients takes them into H's parameters once. Training sums the views of a
+// surface batch this way and differentiates H once per surface step, over the union of
+// their points, instead of once per view: the same sum, since H does not change in between.
 // The lattice, its numbering, the normals and the child choice are described in
 // shaders/include/surface_geometry.glsl.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "engine/height_source.h"
 #include "engine/rays.h"
@@ -53,7 +63,7 @@ struct SurfaceCounters {
 };
 
 struct SurfacePipelines {
-  ComputePipeline gridPoints, gridVertices, globalTrace, requestPoints, subdivide, refract, backward;
+  ComputePipeline gridPoints, gridVertices, globalTrace, requestPoints, subdivide, refract, backward, compact;
 };
 
 struct WaterSurface {
@@ -72,10 +82,19 @@ struct WaterSurface {
   // finest lattice) gives each requested point its index into points/pointHeights/pointGrad.
   Buffer latticeIndex, points, pointHeights, pointGrad;
   Buffer evalPoints, evalHeights;  // one level's new points, handed to the height source
+  Buffer pushPoints, pushGrads, pushCount;  // pushSurfaceGradients: the points with a gradient
   Buffer counters, hitNormals;
   uint32_t latticeStride = 0;  // (cellsX << K) + 3
   uint64_t latticePoints = 0;  // latticeStride * ((cellsY << K) + 3)
   uint32_t pointCapacity = 0;
+  // Points in the cache (indices [0, cachedPoints) of points/pointHeights/pointGrad), all
+  // evaluated at the current heights; 0 after cmdUpdateSurface.
+  uint32_t cachedPoints = 0;
+  bool cacheCleared = false;  // latticeIndex and the point count need clearing before the next trace
+  // gridGrad/pointGrad hold dL/dheight that has not reached H's parameters yet
+  // (cmdBackwardSurfaceToHeights since the last cmdPushSurfaceGradients).
+  bool gradientPending = false;
+  uint64_t heightsVersion = 0;  // a new number (process-wide) at every cmdUpdateSurface
 
   SurfacePipelines pipelines;
   bool floatAtomics = false;  // the backward uses float atomicAdd (else a CAS loop)
@@ -98,14 +117,38 @@ using SurfaceTimings = std::map<std::string, double>;
 // Traces `count` camera rays (GpuRay) through the surface: refractedRays gets one GpuRay per
 // ray (origin = hit point, direction = refracted; unchanged for rays that miss the domain;
 // an empty ray for invalid input), records one SurfaceRecord per ray. Submits and waits.
+// Work recorded into the trace's first submission before the trace (what makes the rays) and
+// into its last after it (what reads the refracted rays): a training step then submits no
+// more often than the trace itself.
+struct SurfaceTraceHooks {
+  std::function<void(VkCommandBuffer)> before, after;
+};
 void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, uint32_t count,
-                  Buffer& refractedRays, Buffer& records, SurfaceTimings* timings = nullptr);
+                  Buffer& refractedRays, Buffer& records, SurfaceTimings* timings = nullptr, const SurfaceTraceHooks& hooks = {});
 
 // From dLoss/d(refracted origin, direction) per ray (GpuRayGrad) to dLoss/dheight of every
 // lattice point the last trace used (ws.gridGrad, ws.pointGrad), then through
 // heights.accumulateGradients into H's parameters. Same rays/records/count as the trace.
+// Equivalent to cmdBackwardSurfaceToHeights then cmdPushSurfaceGradients.
 void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, const Buffer& records,
                         const Buffer& rayGrads, uint32_t count);
+// The first half: adds the last trace's dLoss/dheight into ws.gridGrad and ws.pointGrad (which
+// are cleared first when no gradient is pending) and marks them pending.
+void cmdBackwardSurfaceToHeights(VkCommandBuffer cb, WaterSurface& ws, const Buffer& rays, const Buffer& records, const Buffer& rayGrads,
+                                 uint32_t count);
+// The second half: the pending dLoss/dheight (coarse grid and every cached point) through
+// heights.accumulateGradients into H's parameters; gridGrad/pointGrad keep their values
+// (for tests and the flat plane) until the next backward starts a new sum.
+void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights);
+// cmdPushSurfaceGradients over only the points whose pending gradient is not zero (listed on
+// the device first, their count read back: submits twice). The same sum in another order.
+void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights);
+// Adds scale * g (one value per coarse grid slot, gridPointCount) to the pending dL/dheight
+// (a prior's gradient), starting a new sum when none is pending.
+void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g, double scale);
+// Whether a trace of `rays` rays fits the point cache as it is (else the trace empties the
+// cache first, which needs no gradient to be pending).
+bool surfaceCacheHasRoom(const WaterSurface& ws, uint32_t rays);
 
 // Counters of the last trace and backward (reads them back; waits for nothing else).
 SurfaceCounters readSurfaceCounters(Context& ctx, WaterSurface& ws);

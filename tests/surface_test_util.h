@@ -4,6 +4,8 @@
 #include <cstring>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "engine/analytic_height.h"
 #include "engine/reference/random_rays.h"
 #include "engine/vk_buffer.h"

@@ -85,6 +85,7 @@ GPU_TEST_CASE("gradcheck: keeps a pending --surface-batch sum, and a wrong-size 
   auto s = createTrainSession(ctx, c, d);
   trainStep(*s);
   trainStep(*s);  // two of four gradients summed, no surface step yet
+  pushWaterGradient(*s);  // the sum so far, from dL/dheight at the surface's points into heightGrad
   const std::vector<float> pending = downloadVector<float>(ctx, s->heightGrad, s->height->parameterCount);
   CHECK(std::any_of(pending.begin(), pending.end(), [](float g) { return g != 0.0f; }));
   checkSurfaceGradient(*s, nextStepBatch(*s), {}, {1e-3});

@@ -74,6 +74,42 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
   CHECK(heights.shape == std::vector<size_t>{65, 65});
 }
 
+// Every run's metrics.json gives the mean time per step of each stage (engine/vk_profile.h).
+TEST_CASE("train: metrics.json profiles each stage of a step, and --profile prints the table") {
+  const TinyComparison& c = tinyComparison();
+  const nlohmann::json& p = c.refraction["profile"];
+  CHECK(p["steps"] == 300);
+  const double wall = p["wall_ms_per_step"].get<double>();
+  CHECK(wall > 0);
+  CHECK(p["submits_per_step"].get<double>() >= 1);
+  CHECK(p["dispatches_per_step"].get<double>() >= 1);
+  REQUIRE(p["timestamps"].get<bool>());  // lavapipe writes them
+  double gpu = 0;
+  for (auto& [stage, ms] : p["gpu"].items()) {
+    CHECK_MESSAGE(ms.get<double>() >= 0, stage);
+    gpu += ms.get<double>();
+  }
+  CHECK(gpu == doctest::Approx(p["gpu_ms_per_step"].get<double>()));
+  CHECK(gpu <= wall);  // every submission is waited for within its step
+  for (const char* stage : {"camera rays", "water trace: global trace", "water trace: refract", "gaussian forward", "loss",
+                            "gaussian backward", "water backward: to heights", "water backward: to weights", "water adam",
+                            "water update (heights, refit)"})
+    CHECK_MESSAGE(p["gpu"].contains(stage), stage);
+  CHECK(p["host"].contains("gaussian adam (host)"));
+  const nlohmann::json& plain = c.plain["profile"]["gpu"];
+  CHECK(plain.contains("gaussian forward"));
+  for (auto& [stage, ms] : plain.items()) CHECK_MESSAGE(stage.rfind("water", 0) != 0, stage);  // no water in straight rays
+
+  TrainTempDir dir;
+  test::CliResult r = test::runCli("train " + test::tinyDataset("nerfrac-primary-sine") + " -o " + (dir / "run") +
+                                   " --steps 12 --gaussians 300 --patch 16 --progress-every 6 --checkpoint-every 0 --profile");
+  INFO(r.output);
+  REQUIRE(r.exitCode == 0);
+  CHECK(r.output.find("profile: 12 steps") != std::string::npos);
+  CHECK(r.output.find("gaussian forward") != std::string::npos);
+  CHECK(r.output.find("steps/s  eta 0 s  | ") != std::string::npos);  // the progress line's three costliest stages
+}
+
 // Strong refraction (IOR 1.33, the preset's sine at twice its amplitude: 0.05 m, slope 0.63)
 // at 96 px, where straight rays cannot fake the water: measured with the water known (oracle)
 // 21.5 dB against 15.6 dB for --no-refraction after 3,000 steps of 32 x 32 patches. The joint run uses what short

@@ -16,6 +16,7 @@
 #include "engine/train/train_run.h"
 #include "engine/train/train_views.h"
 #include "engine/vk_context.h"
+#include "engine/vk_profile.h"
 #include "trainer/cli.h"
 #include "trainer/dataset_options.h"
 
@@ -112,6 +113,7 @@ int runTrain(const cli::Args& args) {
   namespace fs = std::filesystem;
   TrainProgress progress;
   progress.line = [](const std::string& text) { std::fprintf(stderr, "%s\n", text.c_str()); };
+  progress.profile = args.has("profile");
   if (args.has("resume")) {
     if (!args.positional.empty() || args.has("output")) fail("--resume RUN takes no dataset and no -o: the run folder holds both");
     std::string run = args.get("resume");
@@ -123,6 +125,7 @@ int runTrain(const cli::Args& args) {
     auto session = openRun(*ctx, run);
     std::fprintf(stderr, "resuming %s at step %d of %d\n", run.c_str(), session->step, session->config.steps);
     printSummary(trainToEnd(*session, run, progress));
+    if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->profiler).c_str());
     return 0;
   }
   if (args.positional.size() != 1) fail("refrax train needs one dataset folder");
@@ -145,6 +148,7 @@ int runTrain(const cli::Args& args) {
   std::fprintf(stderr, "training %s (%s): %u Gaussians, %d steps, %zu training views -> %s\n", config.dataset.c_str(),
                waterModelName(config.model), config.initialGaussians, config.steps, session->dataset.split("train").size(), run.c_str());
   printSummary(trainToEnd(*session, run, progress));
+  if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->profiler).c_str());
   return 0;
 }
 
@@ -201,6 +205,7 @@ std::vector<cli::Option> trainOptions() {
       {"progress-every", "N", "progress line every N steps (stderr)", "50"},
       {"eval-every", "N", "test-split evaluation every N steps (0: at the end only)", "0"},
       {"checkpoint-every", "N", "checkpoint every N steps (0: at the end only)", "500"},
+      {"profile", "", "progress lines name the three costliest stages, and the end prints every stage's mean ms per step (always in metrics.json's \"profile\")", ""},
   };
   for (auto& d : datasetOptions()) o.push_back(d);
   for (auto& d : cli::deviceOptions()) o.push_back(d);

@@ -98,6 +98,7 @@ std::string latestCheckpoint(const std::string& runDir) {
 }
 
 void saveCheckpoint(TrainSession& s, const std::string& runDir) {
+  pushWaterGradient(s);  // the water's pending gradient is saved as the parameters' (heightGrad, planeGrad)
   Context& ctx = *s.ctx;
   Writer w;
   w.raw(kMagic, 8);
@@ -218,7 +219,7 @@ void loadCheckpoint(TrainSession& s, const std::string& path) {
   s.densifyStats = std::move(densifyStats);
   if (s.height) {
     uploadWeights(ctx, *s.height, weights);
-    s.height->config.encodingWindow = encodingWindowAfterStep(s.config, s.step);
+    s.height->config.encodingWindow = encodingWindowAfterStep(s.config, s.step, surfaceBatchSteps(s));
     upload(ctx, s.heightAdam.m, hm.data(), hm.size() * 4);
     upload(ctx, s.heightAdam.v, hv.data(), hv.size() * 4);
     s.heightAdam.step = heightStep;

@@ -24,6 +24,7 @@ SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batc
                                           const std::vector<double>& steps) {
   if (!s.height || !s.surface) fail("the gradient check needs the learned water (the refraction model)");
   Context& ctx = *s.ctx;
+  pushWaterGradient(s);  // the pending sum goes to heightGrad, which is kept and put back below
   const TraceOptions opt = stepTraceOptions(s, batch, s.step + 1);
   SurfaceGradientCheck r;
   r.loss = forwardBatch(s, batch, opt).imageLoss;
@@ -32,7 +33,10 @@ SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batc
   fillBuffer(ctx, s.grads, 0);
   fillBuffer(ctx, s.stats, 0);
   fillBuffer(ctx, s.heightGrad, 0);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBackwardBatch(cb, s, batch, opt, true); });
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdBackwardBatch(cb, s, batch, opt, true);
+    cmdPushSurfaceGradients(cb, *s.surface, heightSource(*s.height, s.heightGrad));
+  });
   std::vector<float> gradient = downloadVector<float>(ctx, s.heightGrad, s.height->parameterCount);
   const std::vector<GpuRayGrad> rayGrads = downloadVector<GpuRayGrad>(ctx, s.rayGrads, batch.rays());
   for (float g : gradient) r.gradientNorm += double(g) * g;

@@ -63,7 +63,12 @@ float encodingWindowAt(const TrainConfig& c, int t) {
   return float(std::min(1.0, open / double(c.mlpOctaves)));
 }
 
-float encodingWindowAfterStep(const TrainConfig& c, int t) { return encodingWindowAt(c, t > c.schedule.surfaceFreeze ? t + 1 : 0); }
+float encodingWindowAfterStep(const TrainConfig& c, int t, int surfaceBatchSteps) {
+  // The window moves with the surface steps: the last one at or before t (none: the coarse window).
+  const int freeze = c.schedule.surfaceFreeze, n = std::max(1, surfaceBatchSteps);
+  const int lastSurfaceStep = t > freeze ? freeze + (t - freeze) / n * n : freeze;
+  return encodingWindowAt(c, lastSurfaceStep > freeze ? lastSurfaceStep + 1 : 0);
+}
 
 void validateTrainConfig(const TrainConfig& c) {
   auto need = [](bool ok, const std::string& what) {

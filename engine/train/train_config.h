@@ -130,8 +130,9 @@ void resolveSchedule(TrainConfig& config);
 // The height field's encoding window (HeightFieldConfig::encodingWindow) at step t.
 float encodingWindowAt(const TrainConfig& config, int t);
 // The window the height field holds after step t: the surface is lifted for the next step
-// once it learns (t > surfaceFreeze); before that it keeps the coarse window of step 0.
-float encodingWindowAfterStep(const TrainConfig& config, int t);
+// at each surface step (every surfaceBatchSteps steps once it learns, t > surfaceFreeze);
+// before the first it keeps the coarse window of step 0.
+float encodingWindowAfterStep(const TrainConfig& config, int t, int surfaceBatchSteps = 1);
 // Throws refrax::Error naming the first bad value.
 void validateTrainConfig(const TrainConfig& config);
 

@@ -16,6 +16,7 @@
 #include "engine/train/train_views.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
+#include "engine/vk_profile.h"
 
 namespace refrax {
 
@@ -107,6 +108,7 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
   evaluations.push_back(evaluationPoint(s, m));
   m["evaluations"] = evaluations;
+  if (s.profiler.steps > 0) m["profile"] = profileJson(s.profiler);
   writeJson((dir / "metrics.json").string(), m);
   return m;
 }
@@ -119,7 +121,11 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     if (progress.line) progress.line(text);
   };
   while (s.step < c.steps) {
+    auto stepStart = std::chrono::steady_clock::now();
+    attachProfiler(*s.ctx, s.profiler);
     StepResult r = trainStep(s);
+    detachProfiler(*s.ctx);
+    profileStepEnd(s.profiler, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart).count());
     if (r.restarted) {
       std::string how = c.initDepth == "sweep" ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.sweptCellFraction))) + "% of the cells" : "";
       say("step " + std::to_string(s.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
@@ -130,9 +136,13 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       char line[256];
       std::snprintf(line, sizeof line, "step %6d/%d  loss %.5f  psnr %6.2f  gaussians %u  %.2f steps/s  eta %.0f s", s.step, c.steps, r.loss,
                     r.psnr, r.gaussians, rate, (c.steps - s.step) / std::max(rate, 1e-9));
-      say(line);
+      say(std::string(line) + (progress.profile ? "  | " + profileTop(s.profiler, 3) : ""));
     }
-    if (c.evalEvery > 0 && s.step % c.evalEvery == 0 && s.step < c.steps) {
+    // An evaluation traces the water and a checkpoint saves the gradient summed so far.
+    const bool evaluate = c.evalEvery > 0 && s.step % c.evalEvery == 0 && s.step < c.steps;
+    const bool checkpoint = c.checkpointEvery > 0 && s.step % c.checkpointEvery == 0;
+    if (evaluate || checkpoint) pushWaterGradient(s);
+    if (evaluate) {
       nlohmann::json m = evaluateSession(s, s.dataset, "");
       // Kept on disk as it grows, so a resumed run's curve still starts at step 0.
       nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
@@ -142,8 +152,9 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       std::snprintf(line, sizeof line, "eval step %d: test psnr %.3f ssim %.4f", s.step, m["psnr"].get<double>(), m["ssim"].get<double>());
       say(line);
     }
-    if (c.checkpointEvery > 0 && s.step % c.checkpointEvery == 0) saveCheckpoint(s, runDir);
+    if (checkpoint) saveCheckpoint(s, runDir);
   }
+  pushWaterGradient(s);
   if (latestCheckpoint(runDir) != checkpointPath(runDir, s.step)) saveCheckpoint(s, runDir);
   return writeRunOutputs(s, runDir);
 }

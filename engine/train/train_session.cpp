@@ -12,9 +12,11 @@
 #include "engine/height_field_source.h"
 #include "engine/surface_prior.h"
 #include "engine/train/init_gaussians.h"
+#include "engine/strided_copy.h"
 #include "engine/train/plane_sweep.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
+#include "engine/vk_profile.h"
 
 namespace refrax {
 namespace {
@@ -91,6 +93,7 @@ HeightSource currentHeightSource(const TrainSession& s) {
 
 void ensureRayCapacity(TrainSession& s, uint32_t n) {
   if (n <= s.capacity) return;
+  pushWaterGradient(s);  // the surface is created anew
   allocateRayBuffers(s, n);
   if (s.surface) createSurface(s);
 }
@@ -118,6 +121,7 @@ namespace {
 // --no-refraction), for the plane sweep.
 std::vector<SweepView> sweepViews(TrainSession& s) {
   std::vector<SweepView> views;
+  pushWaterGradient(s);  // whole images may not fit the surface's point cache beside the batch's points
   for (const View& v : s.dataset.split("train")) {
     uint32_t n = uint32_t(v.camera.width * v.camera.height);
     ensureRayCapacity(s, n);
@@ -196,6 +200,7 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   allocateRayBuffers(*s, most);
   s->rayPipelines = createCameraRayPipelines(ctx);
   s->lossPipelines = createLossPipelines(ctx);
+  s->copyPipeline = createStridedCopyPipeline(ctx);
   s->lossResult = createBuffer(ctx, 16);
   s->adamPipelines = createAdamPipelines(ctx);
 
@@ -301,9 +306,9 @@ void anchorMeanHeight(TrainSession& s) {
 
 namespace {
 
-// The priors' gradient (--surface-smoothness, --level-prior) at the coarse grid's vertices (of
-// the surface this step traced) into s.priorGrad, for the height field's backward; returns E.
-double uploadSurfacePriorGradient(TrainSession& s) {
+// The priors (--surface-smoothness, --level-prior) of the surface as lifted now: their energy
+// and dE/dheight at the coarse grid's vertices, kept in the session until the heights change.
+void computeSurfacePrior(TrainSession& s) {
   WaterSurface& ws = *s.surface;
   const Rect& d = s.config.domain;
   GridLayout g;
@@ -314,16 +319,20 @@ double uploadSurfacePriorGradient(TrainSession& s) {
   g.spacingX = (d.xMax - d.xMin) / ws.cellsX;
   g.spacingY = (d.yMax - d.yMin) / ws.cellsY;
   std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
-  std::vector<float> grad(heights.size(), 0.0f);
-  double energy = 0;
-  if (s.config.surfaceSmoothness > 0) energy += slopePrior(heights, g, s.config.surfaceSmoothness, &grad);
+  s.priorGrad.assign(heights.size(), 0.0f);
+  s.priorEnergy = 0;
+  if (s.config.surfaceSmoothness > 0) s.priorEnergy += slopePrior(heights, g, s.config.surfaceSmoothness, &s.priorGrad);
   if (s.config.levelPrior > 0) {
     if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = trainingViewWeights(s);
-    energy += levelPrior(heights, g, s.anchorWeights, s.config.levelPrior, &grad);
+    s.priorEnergy += levelPrior(heights, g, s.anchorWeights, s.config.levelPrior, &s.priorGrad);
   }
-  if (s.priorGrad.size < grad.size() * sizeof(float)) s.priorGrad = createBuffer(*s.ctx, grad.size() * sizeof(float));
-  upload(*s.ctx, s.priorGrad, grad.data(), grad.size() * sizeof(float));
-  return energy;
+  s.priorHeightsVersion = ws.heightsVersion;
+}
+
+bool priorOn(const TrainSession& s) { return s.height && s.surface && (s.config.surfaceSmoothness > 0 || s.config.levelPrior > 0); }
+// The priors of the surface as it is now (computed once per lift).
+void ensureSurfacePrior(TrainSession& s) {
+  if (s.priorHeightsVersion != s.surface->heightsVersion) computeSurfacePrior(s);
 }
 
 void applyDensitySchedule(TrainSession& s, int t) {
@@ -388,7 +397,7 @@ TraceOptions stepTraceOptions(TrainSession& s, const StepBatch& b, int t) {
   return opt;
 }
 
-BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOptions& opt) {
+BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOptions& opt, const std::function<void(VkCommandBuffer)>& then) {
   Context& ctx = *s.ctx;
   const View& view = s.dataset.split("train")[b.view];
   const Camera& cam = view.camera;
@@ -406,101 +415,103 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
   upload(ctx, s.target, f.target.data(), f.target.size() * 4);
   if (b.patch) upload(ctx, s.pixels, pixelList.data(), pixelList.size() * 4);
 
-  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+  prepareImageLossScratch(ctx, s.lossScratch, b.width, b.height, 3);
+
+  // One submission from the camera rays to the loss's gradient (and `then`), the surface
+  // trace's level submissions in between: the stages hand their buffers on on the device.
+  auto cameraRays = [&](VkCommandBuffer cb) {
     if (b.patch)
       cmdCameraRaysForPixels(cb, s.rayPipelines, cam, s.pixels, n, s.rays, 0.0f, 1e6f);
     else
       cmdCameraRays(cb, s.rayPipelines, cam, s.rays, 0.0f, 1e6f);
-  });
-  if (s.surface) traceSurface(ctx, *s.surface, currentHeightSource(s), s.rays, n, s.refracted, s.records);
-  const Buffer& traced = s.surface ? s.refracted : s.rays;
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, s.tracer, s.proxies, s.device, traced, s.results, n, opt); });
-  std::vector<GpuTraceResult> results = downloadVector<GpuTraceResult>(ctx, s.results, n);
-  f.rendered.resize(size_t(n) * 3);
-  for (uint32_t i = 0; i < n; i++)
-    for (int ch = 0; ch < 3; ch++) f.rendered[3 * i + ch] = results[i].rgb[ch];
-  upload(ctx, s.rendered, f.rendered.data(), f.rendered.size() * 4);
-
-  // Image loss and its gradient.
-  prepareImageLossScratch(ctx, s.lossScratch, b.width, b.height, 3);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdImageLoss(cb, s.lossPipelines, s.lossScratch, s.rendered, s.target, s.lossGrad, s.lossResult); });
-  std::vector<float> lossGrad = downloadVector<float>(ctx, s.lossGrad, size_t(n) * 3);
+    profileStage(cb, ctx, "camera rays");
+  };
+  auto gaussiansAndLoss = [&](VkCommandBuffer cb) {
+    cmdBarrier(cb);
+    cmdTraceForward(cb, s.tracer, s.proxies, s.device, s.surface ? s.refracted : s.rays, s.results, n, opt);
+    profileStage(cb, ctx, "gaussian forward");
+    cmdBarrier(cb);
+    cmdCopyStrided(cb, s.copyPipeline, s.results, {kTraceResultFloats, 0}, s.rendered, {3, 0}, 3, n);
+    cmdImageLoss(cb, s.lossPipelines, s.lossScratch, s.rendered, s.target, s.lossGrad, s.lossResult);
+    cmdBarrier(cb);
+    // dL/d(rgb, opacity): the opacity's stays 0, the background is part of rgb
+    cmdCopyStrided(cb, s.copyPipeline, s.lossGrad, {3, 0}, s.dLoss, {4, 0}, 3, n);
+    cmdBarrier(cb);
+    profileStage(cb, ctx, "loss");
+    if (then) then(cb);
+  };
+  if (s.surface) {
+    if (!surfaceCacheHasRoom(*s.surface, n)) pushWaterGradient(s);
+    traceSurface(ctx, *s.surface, currentHeightSource(s), s.rays, n, s.refracted, s.records, nullptr, {cameraRays, gaussiansAndLoss});
+  } else {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cameraRays(cb);
+      gaussiansAndLoss(cb);
+    });
+  }
+  f.rendered = downloadVector<float>(ctx, s.rendered, size_t(n) * 3);
   f.imageLoss = downloadVector<float>(ctx, s.lossResult, 4)[0];
-  std::vector<float> dLoss(size_t(n) * 4, 0.0f);  // dL/dopacity stays 0: the background is part of rgb
-  for (uint32_t i = 0; i < n; i++)
-    for (int ch = 0; ch < 3; ch++) dLoss[4 * i + ch] = lossGrad[3 * i + ch];
-  upload(ctx, s.dLoss, dLoss.data(), dLoss.size() * 4);
   return f;
 }
 
 void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& s, const StepBatch& b, const TraceOptions& opt, bool surfaceLearns) {
   const Buffer& traced = s.surface ? s.refracted : s.rays;
   cmdTraceBackward(cb, s.tracer, s.proxies, s.device, traced, s.results, s.dLoss, s.grads, s.stats, s.rayGrads, b.rays(), opt);
-  if (!surfaceLearns) return;
-  if (s.height)
-    cmdBackwardSurface(cb, *s.surface, heightSource(*s.height, s.heightGrad), s.rays, s.records, s.rayGrads, b.rays());
-  else
-    cmdBackwardSurface(cb, *s.surface, currentHeightSource(s), s.rays, s.records, s.rayGrads, b.rays());
+  profileStage(cb, *s.ctx, "gaussian backward");
+  if (surfaceLearns) cmdBackwardSurfaceToHeights(cb, *s.surface, s.rays, s.records, s.rayGrads, b.rays());
 }
 
-StepResult trainStep(TrainSession& s) {
-  auto start = std::chrono::steady_clock::now();
+namespace {
+
+// Steps at which the water learns, and the steps that end a surface batch (one Adam step on
+// the gradient summed over the batch).
+bool waterLearnsAt(const TrainSession& s, int t) {
+  return s.surface && s.config.model != WaterModel::KnownWater && t > s.config.schedule.surfaceFreeze;
+}
+bool surfaceStepAt(const TrainSession& s, int t) {
+  return waterLearnsAt(s, t) && (t - s.config.schedule.surfaceFreeze) % surfaceBatchSteps(s) == 0;
+}
+
+// One surface step at step t: the priors' gradient for the batch's steps, the batch's
+// dL/dheight into the parameters, one Adam step, and the surface lifted again (the next
+// encoding window, the mean height anchored). The heights do not change between surface
+// steps, so the batch's gradient is the sum of its steps' gradients at one surface.
+void surfaceStep(TrainSession& s, int t) {
   Context& ctx = *s.ctx;
-  const TrainConfig& c = s.config;
-  int t = ++s.step;
-  const StepBatch batch = nextStepBatch(s);
-  const bool refract = s.surface.has_value();
-  const bool surfaceLearns = refract && c.model != WaterModel::KnownWater && t > c.schedule.surfaceFreeze;
-  const TraceOptions opt = stepTraceOptions(s, batch, t);
-
-  static bool timing = std::getenv("REFRAX_TRAIN_TIMING") != nullptr;
-  auto mark = [&, last = std::chrono::steady_clock::now()](const char* what) mutable {
-    if (!timing) return;
-    auto now = std::chrono::steady_clock::now();
-    std::fprintf(stderr, "%s %.1f ms  ", what, std::chrono::duration<double, std::milli>(now - last).count());
-    last = now;
-  };
-  const BatchForward forward = forwardBatch(s, batch, opt);
-  mark("forward");
-
-  // Backward: Gaussians, then the surface and its parameters.
-  fillBuffer(ctx, s.grads, 0);
-  fillBuffer(ctx, s.stats, 0);
-  const bool priorOn = surfaceLearns && s.height && (c.surfaceSmoothness > 0 || c.levelPrior > 0);
-  const double priorEnergy = priorOn ? uploadSurfacePriorGradient(s) : 0.0;
-  // --surface-batch: the gradients of surfaceBatch steps add up in heightGrad (planeGrad)
-  // before one Adam step, counted from the step the surface starts learning.
-  const bool surfaceSteps = surfaceLearns && (t - c.schedule.surfaceFreeze) % surfaceBatchSteps(s) == 0;
-  submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    cmdBackwardBatch(cb, s, batch, opt, surfaceLearns);
-    if (surfaceLearns && s.height) {
-      if (priorOn) {
-        heightSource(*s.height, s.heightGrad).accumulateGradients(cb, s.surface->gridPoints, s.priorGrad, s.surface->gridPointCount);
-        cmdBarrier(cb);
-      }
-      if (surfaceSteps) {
-        cmdAdamStep(cb, s.adamPipelines, s.heightAdam, s.height->weights, s.heightGrad, 0, true);
-        cmdBarrier(cb);
-      }
-      // The next step's encoding window (recorded after the backward, which used this step's):
-      // the proxy mesh the next step traces is lifted by the field it will differentiate.
-      s.height->config.encodingWindow = encodingWindowAfterStep(c, t);
-      cmdUpdateSurface(cb, *s.surface, *s.height);
-    }
-  });
-  if (surfaceLearns) anchorMeanHeight(s);
-  mark("backward");
-  if (surfaceLearns && !s.height) s.planeGrad += planeHeightGradient(s);
-  if (surfaceSteps && !s.height) {
+  WaterSurface& ws = *s.surface;
+  const int batchSteps = std::min(surfaceBatchSteps(s), t - s.config.schedule.surfaceFreeze);
+  if (priorOn(s)) {
+    HostStage h(ctx, "water prior (host)");
+    ensureSurfacePrior(s);
+    addGridGradient(ctx, ws, s.priorGrad, double(batchSteps));
+  }
+  pushWaterGradient(s);
+  if (s.height) {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cmdAdamStep(cb, s.adamPipelines, s.heightAdam, s.height->weights, s.heightGrad, 0, true);
+      cmdBarrier(cb);
+      profileStage(cb, ctx, "water adam");
+      s.height->config.encodingWindow = encodingWindowAfterStep(s.config, t, surfaceBatchSteps(s));
+      cmdUpdateSurface(cb, ws, *s.height);
+    });
+    HostStage h(ctx, "water anchor (host)");
+    anchorMeanHeight(s);
+  } else {
     planeAdamStep(s, s.planeGrad);
     s.planeGrad = 0;
     HeightSource source = currentHeightSource(s);
-    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, source); });
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, source); });
   }
+}
 
-  // Gaussians: density regulariser, Adam, density schedule, densification.
+// The Gaussians' step after the backward: the density regulariser's gradient, Adam and the
+// density schedule (host). Returns mean(density^2).
+double gaussianStep(TrainSession& s, int t) {
+  Context& ctx = *s.ctx;
+  const TrainConfig& c = s.config;
   std::vector<float> grads = downloadVector<float>(ctx, s.grads, s.gaussians.params.size());
   std::vector<float> stats = downloadVector<float>(ctx, s.stats, s.gaussians.count() * 2);
+  HostStage h(ctx, "gaussian adam (host)");
   for (size_t i = 0; i < stats.size(); i++) s.densifyStats[i] += stats[i];
   size_t count = s.gaussians.count();
   double densitySquares = 0;
@@ -511,42 +522,80 @@ StepResult trainStep(TrainSession& s) {
   }
   gaussianAdamStep(s.gaussianAdam, s.gaussians, grads);
   applyDensitySchedule(s, t);
-  bool countChanged = false;
+  return densitySquares / double(std::max<size_t>(1, count));
+}
+
+// Clone/split/prune when due (3DGS strategy); true when the table's rows changed.
+bool densifyStep(TrainSession& s, int t) {
+  const TrainConfig& c = s.config;
   bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
   bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
-  if (cloneSplit || prune) {
-    size_t before = s.gaussians.count();
-    std::vector<uint32_t> rowMap;
-    s.lastDensify = densify(s.gaussians, s.densifyStats, s.densifyConfig, uint32_t(t), s.rng, rowMap);
-    remapGaussianAdamRows(s.gaussianAdam, rowMap);
-    // The statistics restart after a clone/split (3DGS); a prune alone keeps the survivors'.
-    std::vector<float> kept(rowMap.size() * 2, 0.0f);
-    if (!cloneSplit)
-      for (size_t i = 0; i < rowMap.size(); i++)
-        if (rowMap[i] != kNewRow) {
-          kept[2 * i] = s.densifyStats[2 * rowMap[i]];
-          kept[2 * i + 1] = s.densifyStats[2 * rowMap[i] + 1];
-        }
-    bool identity = rowMap.size() == before;
-    for (size_t i = 0; identity && i < rowMap.size(); i++) identity = rowMap[i] == i;
-    countChanged = !identity;  // new rows: re-upload and rebuild the proxies
-    s.densifyStats = std::move(kept);
+  if (!cloneSplit && !prune) return false;
+  HostStage h(*s.ctx, "densification (host)");
+  size_t before = s.gaussians.count();
+  std::vector<uint32_t> rowMap;
+  s.lastDensify = densify(s.gaussians, s.densifyStats, s.densifyConfig, uint32_t(t), s.rng, rowMap);
+  remapGaussianAdamRows(s.gaussianAdam, rowMap);
+  // The statistics restart after a clone/split (3DGS); a prune alone keeps the survivors'.
+  std::vector<float> kept(rowMap.size() * 2, 0.0f);
+  if (!cloneSplit)
+    for (size_t i = 0; i < rowMap.size(); i++)
+      if (rowMap[i] != kNewRow) {
+        kept[2 * i] = s.densifyStats[2 * rowMap[i]];
+        kept[2 * i + 1] = s.densifyStats[2 * rowMap[i] + 1];
+      }
+  s.densifyStats = std::move(kept);
+  bool identity = rowMap.size() == before;
+  for (size_t i = 0; identity && i < rowMap.size(); i++) identity = rowMap[i] == i;
+  return !identity;  // new rows: re-upload and rebuild the proxies
+}
+
+}  // namespace
+
+void pushWaterGradient(TrainSession& s) {
+  if (!s.surface || !s.surface->gradientPending) return;
+  if (s.height) {
+    pushSurfaceGradients(*s.ctx, *s.surface, heightSource(*s.height, s.heightGrad));
+  } else {
+    s.planeGrad += planeHeightGradient(s);
+    s.surface->gradientPending = false;
   }
+}
+
+StepResult trainStep(TrainSession& s) {
+  auto start = std::chrono::steady_clock::now();
+  const int t = ++s.step;
+  const StepBatch batch = nextStepBatch(s);
+  const TraceOptions opt = stepTraceOptions(s, batch, t);
+  const BatchForward forward = forwardBatch(s, batch, opt, [&](VkCommandBuffer cb) {
+    vkCmdFillBuffer(cb, s.grads.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, s.stats.buffer, 0, VK_WHOLE_SIZE, 0);
+    cmdBarrier(cb);
+    cmdBackwardBatch(cb, s, batch, opt, waterLearnsAt(s, t));
+  });
   StepResult r;
-  // Read before a restart: its plane sweep traces the water again (--init-depth sweep).
-  if (refract) r.missed = s.surface->lastCounters.missed;
-  const std::vector<int>& restarts = c.schedule.gaussianRestarts;
+  if (s.surface) r.missed = s.surface->lastCounters.missed;  // before a restart's plane sweep traces again
+  double priorEnergy = 0;  // of the surface this step traced
+  if (waterLearnsAt(s, t) && priorOn(s)) {
+    HostStage h(*s.ctx, "water prior (host)");
+    ensureSurfacePrior(s);
+    priorEnergy = s.priorEnergy;
+  }
+  if (surfaceStepAt(s, t)) surfaceStep(s, t);
+  const double densitySquares = gaussianStep(s, t);
+  bool countChanged = densifyStep(s, t);
+  const std::vector<int>& restarts = s.config.schedule.gaussianRestarts;
   if (std::find(restarts.begin(), restarts.end(), t) != restarts.end()) {
+    HostStage h(*s.ctx, "restart and plane sweep");
     drawGaussians(s);
     countChanged = r.restarted = true;
   }
-  mark("adam");
-  syncGaussians(s, countChanged);
-  mark("sync");
-  if (timing) std::fprintf(stderr, "\n");
-
+  {
+    HostStage h(*s.ctx, "gaussian upload and proxies");
+    syncGaussians(s, countChanged);
+  }
   r.imageLoss = forward.imageLoss;
-  r.loss = r.imageLoss + c.densityLossWeight * densitySquares / double(count) + priorEnergy;
+  r.loss = r.imageLoss + s.config.densityLossWeight * densitySquares + priorEnergy;
   r.psnr = batchPsnr(forward.rendered, forward.target);
   r.gaussians = uint32_t(s.gaussians.count());
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");

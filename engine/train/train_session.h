@@ -5,10 +5,14 @@
 //   -> water surface forward (refracted rays; skipped for --no-refraction)
 //   -> Gaussian forward -> 0.8 L1 + 0.2 (1 - SSIM) + 0.007 mean(density^2)
 //   -> Gaussian backward (per-Gaussian gradients, per-ray dL/d(origin, direction))
-//   -> surface backward -> dL/d(height parameters) (+ the priors', --surface-smoothness and --level-prior)
-//   -> Adam: the Gaussian table's six groups (engine/train/gaussian_adam.h) and the height
-//      MLP (device Adam, engine/adam.h), or the one height of --flat-water.
-// With REFRAX_TRAIN_TIMING set, each step prints its stages' wall times to stderr.
+//   -> surface backward -> dL/dheight at the lattice points, summed over the surface batch
+//   -> at each surface step (every --surface-batch steps): the priors' gradient
+//      (--surface-smoothness, --level-prior) added, dL/dheight -> dL/d(height parameters)
+//      once over the batch's points, Adam on the MLP (device Adam, engine/adam.h) or the one
+//      height of --flat-water, the surface lifted again
+//   -> Adam on the Gaussian table's six groups (engine/train/gaussian_adam.h).
+// The camera rays, the Gaussians, the loss and the backward share one submission with the
+// surface trace's last (profile: `refrax train --profile`, engine/vk_profile.h).
 // The session is not movable (height sources refer to its members): it lives in a unique_ptr.
 #include <cstdint>
 #include <functional>
@@ -28,6 +32,7 @@
 #include "engine/image_loss.h"
 #include "engine/train/gaussian_adam.h"
 #include "engine/train/train_config.h"
+#include "engine/vk_profile.h"
 #include "engine/water_surface.h"
 
 namespace refrax {
@@ -65,10 +70,14 @@ struct TrainSession {
   AdamPipelines adamPipelines;
   AdamGroup heightAdam;
   Buffer heightGrad;
-  Buffer priorGrad;  // --surface-smoothness: dE/dheight at the coarse grid's vertices (surface_prior.h)
+  // The priors (--surface-smoothness, --level-prior) of the current heights: dE/dheight at the
+  // coarse grid's vertices (surface_prior.h) and E; fresh until the surface is lifted again.
+  std::vector<float> priorGrad;
+  double priorEnergy = 0;
+  uint64_t priorHeightsVersion = 0;  // the surface's heightsVersion they were computed at
   AnalyticHeightField plane;  // waves zero, base = planeHeight
   double planeHeight = 0, planeM = 0, planeV = 0;
-  double planeGrad = 0;  // dL/d(plane height) summed since the last plane step (--surface-batch)
+  double planeGrad = 0;  // dL/d(plane height) summed since the last plane step (--surface-batch), pushed part
   int planeStep = 0;
   std::optional<WaterSurface> surface;
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
@@ -77,6 +86,7 @@ struct TrainSession {
   uint32_t capacity = 0;
   CameraRayPipelines rayPipelines;
   LossPipelines lossPipelines;
+  ComputePipeline copyPipeline;  // layouts handed between stages (engine/strided_copy.h)
   ImageLossScratch lossScratch;
   Buffer pixels, rays, refracted, records, results, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
   HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
@@ -96,6 +106,7 @@ struct TrainSession {
   uint32_t viewCursor = 0;
   int step = 0;                     // steps taken
   double trainingSeconds = 0;       // wall time spent in steps (carried across resumes)
+  GpuProfiler profiler;             // the steps of this process, stage by stage (engine/vk_profile.h)
 };
 
 // Loads nothing: `dataset` and `config` (resolved) are given. Initialises the Gaussians,
@@ -111,6 +122,12 @@ int surfaceBatchSteps(const TrainSession& session);
 
 // One optimisation step (advances session.step).
 StepResult trainStep(TrainSession& session);
+
+// The water's gradient summed since the last surface step sits partly in the surface, as
+// dL/dheight at its lattice points (engine/water_surface.h): this takes it into the
+// parameters' gradient (the MLP's heightGrad, or planeGrad). Needed before anything that
+// lifts the surface again, re-creates it or saves the session; a no-op when nothing is pending.
+void pushWaterGradient(TrainSession& session);
 
 // The parts of a step, for trainStep and for checks that differentiate a fixed batch
 // (engine/train/gradient_check.h).
@@ -132,8 +149,10 @@ struct BatchForward {
   std::vector<float> rendered, target;  // rgb per ray
 };
 // Camera rays -> water (unless --no-refraction) -> Gaussians -> image loss, at the session's
-// current parameters; leaves dL/d(rendered) in session.dLoss for cmdBackwardBatch.
-BatchForward forwardBatch(TrainSession& session, const StepBatch& batch, const TraceOptions& options);
+// current parameters; leaves dL/d(rendered) in session.dLoss for cmdBackwardBatch. `then`
+// records more work (the backward) into the same submission, after the loss.
+BatchForward forwardBatch(TrainSession& session, const StepBatch& batch, const TraceOptions& options,
+                          const std::function<void(VkCommandBuffer)>& then = {});
 // Records the backward of the last forwardBatch: per-Gaussian gradients into session.grads
 // (and statistics), per-ray dL/d(ray) and, when the surface learns, dL/d(height parameters)
 // added to session.heightGrad (the MLP; the plane's lattice gradients stay in the surface).

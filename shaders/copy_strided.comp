@@ -1,0 +1,15 @@
+#version 460
+// dst[dstOffset + i * dstStride + c] = src[srcOffset + i * srcStride + c] for c < channels,
+// and 0 for channels <= c < dstStride: moves per-ray values between the layouts of two stages
+// on the device (the tracer's 32-byte results to the loss's rgb, the loss's rgb gradient to the
+// tracer's rgba gradient) instead of through the host.
+layout(local_size_x = 64) in;
+layout(std430, set = 0, binding = 0) readonly buffer Src { float src[]; };
+layout(std430, set = 0, binding = 1) writeonly buffer Dst { float dst[]; };
+layout(push_constant) uniform Push { uint count, channels, srcStride, srcOffset, dstStride, dstOffset; } pc;
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= pc.count) return;
+  for (uint c = 0u; c < pc.dstStride; c++)
+    dst[pc.dstOffset + i * pc.dstStride + c] = c < pc.channels ? src[pc.srcOffset + i * pc.srcStride + c] : 0.0;
+}
