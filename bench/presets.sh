@@ -15,7 +15,7 @@
 #   default  tiny presets (64 px wide), 1,500 steps of 32 x 32 patches, 2,000 initial Gaussians
 #            capped at 4,000, no density resets, SH degree 0; the refraction model with the
 #            short-run surface settings (3 octaves, --surface-lr 3e-3, the surface learning from
-#            step 200, the anchored mean height; README "Training"), and the same with
+#            step 200, the anchored mean height; docs/training.md), and the same with
 #            --surface-smoothness 0.1 (refraction-smooth), and the same with --level-prior 1000
 #            --init-depth sweep --restart-gaussians 500,800 --surface-batch views (refraction-sweep). 45 runs, about
 #            60 minutes on this 2-core lavapipe machine.
@@ -34,7 +34,7 @@
 #   --steps N  train N steps instead of the mode's (the refraction-sweep restarts move with it,
 #            to a third and eight fifteenths of the run, as 500,800 of 1,500).
 #   --smoothness X  the slope prior's weight for refraction-smooth (default 0.1; 0.01 held
-#            2 of the 4 presets whose surface ran away and let a stable one drift, see README).
+#            2 of the 4 presets whose surface ran away and let a stable one drift, see docs/experiments/2026-11-24-surface-smoothness.md).
 # Writes DIR/presets.csv (one row per run: preset and variant, then `refrax report`'s columns) and
 # DIR/summary.md (device, load, sizes, and per preset the five variants with
 # refraction-sweep's gain over each other one).
@@ -80,7 +80,7 @@ fi
 [ "$refraction_options" = unset ] || refraction=$refraction_options
 smooth="--surface-smoothness $smoothness"
 # --surface-batch views: one surface step per pass over the training views, on their summed
-# gradient (without it the surface ran away on 5 of the 9 tiny presets; README "Training")
+# gradient (without it the surface ran away on 5 of the 9 tiny presets; docs/training.md)
 sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts --surface-batch views"
 models=("refraction-sweep|$refraction $sweep" "refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
 all_presets=$(IFS=,; echo "${presets[*]}")

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # What refraction buys where it matters (issue 6): test PSNR and surface RMSE of six models
 # on the strong-refraction tiny preset, seed by seed, each against --no-refraction on the
-# same data, seed, patch size and steps (the README's table and the long training test):
+# same data, seed, patch size and steps (docs/experiments/2026-11-26-strong-refraction.md and the long training test):
 #   no-refraction   plain 3DGRT, straight rays
 #   reference       refraction with the reference surface settings (6 octaves, lr 5e-4)
 #   short-run       refraction with the short-run surface settings: 3 octaves, --surface-lr

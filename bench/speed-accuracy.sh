@@ -37,7 +37,7 @@ esac
 min_steps=3 max_steps=3000
 
 # name|options (STEPS: the run's step count). Refrax defaults: MLP 3 x 64, init range 1e-3,
-# 64 cells, 2 subdivision levels. Reference (DESIGN 1.1, 1.2, 1.6): MLP 6 x 256 with the last
+# 64 cells, 2 subdivision levels. Reference (docs/method.md §1.1, 1.2, 1.6): MLP 6 x 256 with the last
 # layer in +-0.1 and a 200-cell grid (201 x 201 vertices), K = 2; its loss and schedule are
 # Refrax's defaults already. Ablations, from the defaults: face normals for the whole run;
 # no subdivision (K = 0) on a 256-cell mesh (the defaults' finest level, 64 x 2^2); no

@@ -44,7 +44,7 @@ struct AdamGroup {
   uint32_t count() const { return rows * rowWidth; }
 };
 
-// The reference learning rates (DESIGN 1.6): positions 1.6e-4 * extent -> 1.6e-6 * extent and
+// The reference learning rates (docs/method.md §1.6): positions 1.6e-4 * extent -> 1.6e-6 * extent and
 // the height MLP 5e-4 -> 5e-6 over 30k steps; density 0.05, SH DC 2.5e-3, SH rest 1.25e-4,
 // rotation 1e-3, scale 5e-3 constant. Names: position density sh_dc sh_rest rotation scale height_mlp.
 struct AdamGroupRate {

@@ -1,6 +1,6 @@
 #pragma once
 // Adaptive density control of the Gaussians (3DGS strategy as 3DGRT and RefracGS run it,
-// DESIGN 1.6), on the host: the trainer downloads the parameters and the tracer's
+// docs/method.md §1.6), on the host: the trainer downloads the parameters and the tracer's
 // statistics, calls densify at the steps densifyDue/pruneDue name, uploads the new set,
 // remaps every Adam group with the returned row map (engine/adam.h remapAdamRows) and zeroes
 // the statistics.

@@ -1,5 +1,5 @@
 #pragma once
-// The refraction-aware Gaussian ray tracer (3DGRT k-buffer on ray queries, DESIGN 1.4-1.5):
+// The refraction-aware Gaussian ray tracer (3DGRT k-buffer on ray queries, docs/method.md §1.4-1.5):
 // proxies in an acceleration structure, a forward pass over any list of rays (camera rays
 // or rays refracted at the water surface) and its backward to per-Gaussian gradients and
 // per-ray dL/d(origin, direction).

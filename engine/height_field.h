@@ -1,6 +1,6 @@
 #pragma once
 // The water surface z = H(x, y): an MLP on a NeRF frequency encoding of (x, y) (paper §3.2,
-// DESIGN.md §1.1), evaluated and differentiated on the device, with a CPU double reference.
+// docs/method.md §1.1), evaluated and differentiated on the device, with a CPU double reference.
 //
 // Model. (x, y) is mapped from [domainMin, domainMax] to u in [-1,1]^2 and encoded into
 // 2 + 4*octaves inputs (shaders/include/height_encoding.glsl gives the exact order).

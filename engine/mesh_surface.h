@@ -1,5 +1,5 @@
 #pragma once
-// Surface swap (DESIGN 1.4 "Surface editing"): any triangle mesh (e.g. read from glTF,
+// Surface swap (docs/method.md §1.4 "Surface editing"): any triangle mesh (e.g. read from glTF,
 // engine/io/gltf_surface.h) replaces the learned water surface, no retraining. Each camera
 // ray is refracted at its closest hit on the mesh (interpolated vertex normals, Snell's law;
 // shaders/include/mesh_refract.glsl) and handed to the Gaussian tracer like the rays of

@@ -1,5 +1,5 @@
 #pragma once
-// The differentiable water surface (DESIGN.md 1.2, 1.3, 1.5; paper Alg. 1): a proxy mesh
+// The differentiable water surface (docs/method.md §1.2, 1.3, 1.5; paper Alg. 1): a proxy mesh
 // lifted from a height field, one ray query per camera ray against it, K levels of
 // recursive subdivision tracing, Phong-interpolated vertex normals, Snell's law; and the
 // backward from dL/d(refracted ray) to dL/dheights and on to H's parameters.

@@ -19,7 +19,7 @@ mkdir -p "$OUT"
 ./build/refrax synth nerfrac-primary-sine --size tiny -o "$OUT/data"
 COMMON=(--steps "$STEPS" --gaussians "$GAUSSIANS" --max-gaussians $((2 * GAUSSIANS)) --patch "$PATCH" --density-reset-every 0
         --sh-degree 0 --progress-every 100 --checkpoint-every 500)
-# The refraction model with the presets table's method (bench/presets.sh refraction-sweep, README):
+# The refraction model with the presets table's method (bench/presets.sh refraction-sweep, docs/training.md):
 # the fast surface settings, the level prior, Gaussians drawn at a plane sweep's depth (afresh
 # at a third and a half of the run) and one surface step per pass over the 8 training views.
 REFRACTION=(--mlp-coarse-octaves 3 --octaves-open-until 100000000 --surface-lr 3e-3 --surface-freeze $((STEPS * 2 / 15))

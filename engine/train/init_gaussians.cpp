@@ -35,7 +35,7 @@ std::vector<double> nearestNeighbourDistances(const std::vector<double>& xyz, do
 
 namespace {
 
-// Gaussians at the given means and colours (in [0, 1]), the rest as DESIGN 1.6 initialises it.
+// Gaussians at the given means and colours (in [0, 1]), the rest as docs/method.md §1.6 initialises it.
 GaussianSet gaussiansAt(const std::vector<double>& xyz, const std::vector<double>& rgb, const double boxMin[3], const double boxMax[3],
                         double density) {
   size_t count = xyz.size() / 3;

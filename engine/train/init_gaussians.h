@@ -1,5 +1,5 @@
 #pragma once
-// The initial Gaussians (DESIGN 1.6): means uniform in a box under the water, identity
+// The initial Gaussians (docs/method.md §1.6): means uniform in a box under the water, identity
 // rotation, density `density`, isotropic log scale log(d) with d the distance to the nearest
 // other mean (3DGS initialises from nearest neighbours too), a random colour (SH DC) and
 // zero higher SH bands.

@@ -9,7 +9,7 @@
 // Why: the Gaussians drawn uniformly in the box (3DGS's fallback without SfM points) keep
 // their initial spread in depth: on the strong-wave tiny preset the opaque ones ended spread
 // over 0.5 m around a scene 0.2 m deep, and the water's error followed the scene's relief
-// (README). --init-depth sweep draws them at the swept depth instead.
+// (docs/experiments/2026-11-26-plane-sweep.md). --init-depth sweep draws them at the swept depth instead.
 #include <cstdint>
 #include <vector>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Everything one training run is made of, resolved before the first step and written to
 // RUN/config.json, so `refrax render`, `refrax eval` and `--resume` rebuild the same model.
-// Schedules (DESIGN 1.6) are given for the reference 15,000 steps; resolveSchedule scales
+// Schedules (docs/method.md §1.6) are given for the reference 15,000 steps; resolveSchedule scales
 // every step count that was not set explicitly by steps / 15000, so a short run passes
 // through the same phases (surface frozen, face normals, SH degrees, density resets).
 #include <cstdint>
@@ -86,13 +86,13 @@ struct TrainConfig {
   // about +-0.3 (larger than the waves of the scenes); a small range starts nearly flat.
   double mlpInitRange = 1e-3;
   // Adam learning rate of the surface (MLP weights, or the flat plane's height) at step 0,
-  // decaying exponentially to 1/100 of it over lrSteps; reference 5e-4 (DESIGN 1.6).
+  // decaying exponentially to 1/100 of it over lrSteps; reference 5e-4 (docs/method.md §1.6).
   double surfaceLearningRate = 5e-4;
   // The surface's Adam step every this many steps, on the gradient summed over them (the
   // views in between); 1 (the reference): every step. Why: one view's gradient is right for
   // that view (refrax gradcheck) but views disagree; on the weak-wave presets Adam, which
   // steps about the learning rate whatever the gradient's size, walked the surface away on
-  // their disagreement (README). 0 (--surface-batch views): the training view count, one
+  // their disagreement (docs/experiments/2026-11-26-surface-batch.md). 0 (--surface-batch views): the training view count, one
   // surface step per pass over the views (surfaceBatchSteps).
   int surfaceBatch = 1;
   // Weight of the slope prior (engine/surface_prior.h) added to the loss while the surface
@@ -108,7 +108,7 @@ struct TrainConfig {
   double densityDecay = 0.99;
   double densityResetValue = 0.01;
   // Weight of the density (opacity) loss, weight * mean(sigmoid(logit)^2) over all Gaussians;
-  // reference 0.007 (DESIGN 1.6), 0 switches it off (the paper's ablation).
+  // reference 0.007 (docs/method.md §1.6), 0 switches it off (the paper's ablation).
   double densityLossWeight = 0.007;
   bool densify = true;             // clone/split/prune (engine/densify.h)
   double densifyGradThreshold = 3e-4;

@@ -1,6 +1,6 @@
 #pragma once
 // One training run's state on the device and the host, and one optimisation step
-// (DESIGN 1.6, paper §3-4):
+// (docs/method.md §1.6, paper §3-4):
 //   camera rays (a whole training image or a random patch of it)
 //   -> water surface forward (refracted rays; skipped for --no-refraction)
 //   -> Gaussian forward -> 0.8 L1 + 0.2 (1 - SSIM) + 0.007 mean(density^2)

@@ -1,4 +1,4 @@
-// Gaussian ray tracer, backward (DESIGN 1.5). Included by gaussian_backward.comp (float
+// Gaussian ray tracer, backward (docs/method.md §1.5). Included by gaussian_backward.comp (float
 // atomicAdd) and gaussian_backward_cas.comp (REFRAX_CAS_ATOMICS: compare-and-swap loop, for
 // devices without shaderBufferFloat32AtomicAdd).
 //

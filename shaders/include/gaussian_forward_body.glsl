@@ -1,4 +1,4 @@
-// The Gaussian ray tracer's forward blend (3DGRT k-buffer, DESIGN 1.4), shared by
+// The Gaussian ray tracer's forward blend (3DGRT k-buffer, docs/method.md §1.4), shared by
 // gaussian_forward.comp (any list of rays, hits from the BVH) and gaussian_forward_tiled.comp
 // (an image's rays in tiles, hits from the tile's candidate list). Per ray: blend the accepted
 // Gaussian hits front to back in (t, id) order, K at a time, until the transmittance drops

@@ -81,7 +81,7 @@ SHARED_FN real gaussianPeakPrecision(real3 p, real3 w, real invLen2, real3 mu, r
 
 // Radius (in sigmas) of the proxy box: where density * kernel falls to the smallest value
 // acceptedAlpha keeps, max(min(0.0113, 0.97 density), 1/255) (the adaptive cut-off of
-// DESIGN 1.4, capped for faint Gaussians, and no further than alpha 1/255 reaches). Zero
+// docs/method.md §1.4, capped for faint Gaussians, and no further than alpha 1/255 reaches). Zero
 // for a Gaussian fainter than 1/255, which no ray can hit (trained scenes hold many: the
 // density decay and resets leave them behind; a point box keeps them out of every ray).
 SHARED_FN real proxyRadiusOf(real density) {

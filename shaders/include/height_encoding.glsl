@@ -11,7 +11,7 @@
 // every octave (w = 1), a = 2 keeps octaves 0 and 1 and silences the rest. Why: the surface
 // gradient reaches the heights through normals (slopes), which weight a height mode of
 // frequency f by f, so high octaves make the optimisation stiff; opening them late lets the
-// low frequencies settle first (measured: docs in README, training section).
+// low frequencies settle first (measured: docs/training.md).
 // The phase 2^k u is reduced to [-1, 1) exactly before multiplying by pi (a power-of-two
 // scale and the subtraction of an even integer are exact in float), so float shaders keep
 // ~1e-7 absolute accuracy even at the top octave instead of losing it to |2^k pi u| ~ 100.
