@@ -5,7 +5,7 @@
 // Why generated: on lavapipe a load inside any loop or branch becomes eight one-lane loads
 // with bounds checks, so MLP kernels with loops run at 1-3 GFLOP/s; straight-line code
 // (weights staged in shared memory, read at constant offsets, activations in named locals)
-// runs 10-20x faster (DESIGN.md §1.7). The code depends on the shape, so it is generated at
+// runs 10-20x faster (docs/method.md §1.7). The code depends on the shape, so it is generated at
 // build time for the shapes listed in cmake/HeightKernels.cmake; other shapes use the
 // loop-based kernels.
 //
@@ -28,8 +28,11 @@ constexpr uint32_t kHeightFusedMaxWidth = 64;
 
 // Weight-gradient tiles (backward pass 2): points per workgroup and lanes (inputs k) per
 // workgroup; kernels exist per outputs-per-block mb (kHeightGradBlocks), chosen as the largest
-// listed mb that divides the layer's output count.
-constexpr uint32_t kHeightGradTile = 32;
+// listed mb that divides the layer's output count. 128 points per tile: measured on lavapipe
+// (`refrax bench mlp --widths 64 --depth 3`, 16k points) 53-56 ms per backward against 68 ms
+// with 32 points and 61 ms with 256 (whose first compile took over a minute); fewer points per
+// block of outputs (mb 8) or one block of all 64 were slower (90, 88 ms).
+constexpr uint32_t kHeightGradTile = 128;
 constexpr uint32_t kHeightGradLanes = 32;
 constexpr uint32_t kHeightGradBlocks[] = {32, 16, 1};
 inline uint32_t heightGradBlock(uint32_t outputs) {

@@ -65,6 +65,14 @@ void profileSubmitEnd(Context& ctx) {
 void profileStepEnd(GpuProfiler& p, double wallMs) {
   p.wallMs += wallMs;
   p.steps++;
+  p.stepMs.push_back(float(wallMs));
+}
+
+double medianStepMs(const GpuProfiler& p) {
+  if (p.stepMs.empty()) return 0;
+  std::vector<float> v = p.stepMs;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
 }
 
 std::vector<ProfileRow> profileRows(const GpuProfiler& p) {
@@ -94,8 +102,9 @@ std::string profileTable(const GpuProfiler& p) {
   std::string out;
   char buf[256];
   double wall = perStep(p, p.wallMs);
-  std::snprintf(buf, sizeof buf, "profile: %d steps, %.2f ms per step (%.2f submits, %.1f dispatches per step)%s\n", p.steps, wall,
-                double(p.submits) / std::max(1, p.steps), double(p.dispatches) / std::max(1, p.steps),
+  double slowest = p.stepMs.empty() ? 0.0 : *std::max_element(p.stepMs.begin(), p.stepMs.end());
+  std::snprintf(buf, sizeof buf, "profile: %d steps, %.2f ms per step (median %.2f, slowest %.1f), %.2f submits and %.1f dispatches per step%s\n",
+                p.steps, wall, medianStepMs(p), slowest, double(p.submits) / std::max(1, p.steps), double(p.dispatches) / std::max(1, p.steps),
                 p.gpu ? "" : "; this device writes no timestamps: host stages only");
   out += buf;
   std::snprintf(buf, sizeof buf, "  %-44s %6s %10s %7s\n", "stage", "where", "ms/step", "share");
@@ -116,6 +125,8 @@ nlohmann::json profileJson(const GpuProfiler& p) {
   return {{"steps", p.steps},
           {"timestamps", p.gpu},
           {"wall_ms_per_step", perStep(p, p.wallMs)},
+          {"median_step_ms", medianStepMs(p)},
+          {"slowest_step_ms", p.stepMs.empty() ? 0.0 : double(*std::max_element(p.stepMs.begin(), p.stepMs.end()))},
           {"gpu_ms_per_step", gpuTotal},
           {"host_ms_per_step", perStep(p, p.wallMs) - gpuTotal},
           {"submits_per_step", double(p.submits) / std::max(1, p.steps)},

@@ -37,6 +37,7 @@ struct GpuProfiler {
   double deviceMs = 0;  // sum over `device`
   double wallMs = 0;  // wall time of the profiled steps (profileStepEnd)
   int steps = 0;
+  std::vector<float> stepMs;  // each step's wall time: the median leaves out one-off costs (pipelines built on first use)
 };
 
 // Attaches a profiler to the context (every later submitAndWait is timed) / detaches it.
@@ -77,8 +78,10 @@ std::vector<ProfileRow> profileRows(const GpuProfiler& profiler);  // largest fi
 std::string profileTop(const GpuProfiler& profiler, size_t n);
 // A table for the terminal: one row per stage, ms per step and share of the step.
 std::string profileTable(const GpuProfiler& profiler);
-// {"steps", "wall_ms_per_step", "gpu_ms_per_step", "host_ms_per_step", "submits_per_step",
-//  "gpu": {stage: ms per step}, "host": {stage: ms per step}}
+// {"steps", "timestamps", "wall_ms_per_step", "median_step_ms", "slowest_step_ms", "gpu_ms_per_step",
+//  "host_ms_per_step", "submits_per_step", "dispatches_per_step", "gpu": {stage: ms per step},
+//  "host": {stage: ms per step}}
+double medianStepMs(const GpuProfiler& profiler);
 nlohmann::json profileJson(const GpuProfiler& profiler);
 
 }  // namespace refrax

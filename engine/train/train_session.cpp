@@ -137,7 +137,7 @@ std::vector<SweepView> sweepViews(TrainSession& s) {
 // kept. Why the restart: the first Gaussians fit the views through the still-flat water and
 // absorb most of its distortion as a warped scene, which stalls the surface at about half the
 // true amplitude; fresh Gaussians under a surface that has learned leave the rest of the
-// distortion to it (README, measured on the strong-wave scene).
+// distortion to it (docs/experiments/2026-11-25-density-resets-and-restarts.md, measured on the strong-wave scene).
 //
 // --init-depth sweep draws their depths from a plane sweep of the training views through the
 // water as it is now (flat at step 0, learned at a restart).
@@ -217,6 +217,9 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
     hc.domainMax[1] = float(config.domain.yMax);
     hc.encodingWindow = encodingWindowAt(config, 0);
     s->height.emplace(createHeightField(ctx, hc, uint32_t(config.seed * 7919u + 3u)));
+    // Lavapipe builds a pipeline at its first dispatch (a second or more for the MLP's
+    // backward, even from Mesa's disk cache): here, not inside the first surface step.
+    warmUpHeightField(*s->height);
     LearningRateSchedule lr = surfaceLearningRate(config);
     s->heightAdam = createAdamGroup(ctx, "height_mlp", lr, 1, uint32_t(s->height->parameterCount));
     s->heightGrad = createBuffer(ctx, s->height->parameterCount * 4);
