@@ -55,7 +55,7 @@ suite_dataset() {  # preset [synth options...] -> prints the dataset folder (mad
   local preset=$1
   shift
   local key
-  key=$(echo "$preset $*" | tr -c 'A-Za-z0-9.-' '_')
+  key=$(echo "$preset $size $*" | tr -c 'A-Za-z0-9.-' '_')
   local dir=$work/data/$key
   if [ ! -d "$dir" ]; then
     "$REFRAX" synth "$preset" --size "$size" -o "$dir" "$@" > "$work/synth-$key.log" 2>&1 ||

@@ -64,7 +64,7 @@ void gaussianProxyBox(const float* g, float box[6]) {
   real3 s = glm::exp(real3(g[kGaussLogScale], g[kGaussLogScale + 1], g[kGaussLogScale + 2]));
   real radius = proxyRadiusOf(sigmoidOf(g[kGaussLogitDensity]));
   real3 e;
-  for (int a = 0; a < 3; a++) e[a] = radius * length(real3(R[0][a] * s.x, R[1][a] * s.y, R[2][a] * s.z));
+  for (int a = 0; a < 3; a++) e[a] = std::min(radius * length(real3(R[0][a] * s.x, R[1][a] * s.y, R[2][a] * s.z)), kMaxProxyHalfExtent);
   for (int a = 0; a < 3; a++) {
     box[a] = float(mu[a] - e[a]);
     box[3 + a] = float(mu[a] + e[a]);
@@ -141,7 +141,12 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
   p.count = gaussians.count;
   p.allowUpdate = allowUpdate;
   std::vector<Box> boxes(p.count);
-  for (uint32_t i = 0; i < p.count; i++) gaussianProxyBox(host.at(i), &boxes[i].minX);
+  for (uint32_t i = 0; i < p.count; i++) {
+    gaussianProxyBox(host.at(i), &boxes[i].minX);
+    bool clamped = false;
+    for (int a = 0; a < 3; a++) clamped = clamped || (&boxes[i].minX)[3 + a] - (&boxes[i].minX)[a] >= float(2 * f64::kMaxProxyHalfExtent);
+    p.clamped += clamped ? 1 : 0;
+  }
   p.order = medianSplitOrder(boxes);
   p.orderBuffer = createBufferFrom(ctx, p.order);
   p.trace = createBuffer(ctx, VkDeviceSize(p.count) * kTraceGaussianBytes);

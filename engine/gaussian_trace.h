@@ -103,6 +103,7 @@ struct GaussianProxies {
   ProxyKind kind = ProxyKind::AabbBlas;
   uint32_t count = 0;
   std::vector<uint32_t> order;  // order[slot] = Gaussian id (slot = BLAS primitive / TLAS instance)
+  uint32_t clamped = 0;         // Gaussians whose box was clamped to kMaxProxyHalfExtent (when built)
   Buffer orderBuffer;
   Buffer trace;      // TraceGaussian per slot (AABB variant) or per id (instanced variant)
   Buffer sh;         // SH coefficients per Gaussian id as 12 vec4s (the tracer loads these, not the 48 raw floats)

@@ -52,7 +52,10 @@ void main() {
   if (pc.instanced == 0u) {
     // world-axis half extent of the ellipsoid R S (radius * unit ball): |row a of R S|
     vec3 e;
-    for (int a = 0; a < 3; a++) e[a] = radius * length(vec3(R[0][a] * s.x, R[1][a] * s.y, R[2][a] * s.z));
+    for (int a = 0; a < 3; a++) {
+      float extent = radius * length(vec3(R[0][a] * s.x, R[1][a] * s.y, R[2][a] * s.z));
+      e[a] = isnan(extent) ? kMaxProxyHalfExtent : min(extent, kMaxProxyHalfExtent);  // inf (and inf * 0) clamped too
+    }
     for (int a = 0; a < 3; a++) {
       boxes[6u * k + uint(a)] = mu[a] - e[a];
       boxes[6u * k + 3u + uint(a)] = mu[a] + e[a];

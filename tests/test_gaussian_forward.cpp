@@ -7,6 +7,8 @@
 #include "engine/water_removal.h"
 #include "engine/gaussian_math.h"
 #include "engine/gaussian_trace.h"
+#include "engine/presort.h"
+#include "engine/vk_buffer.h"
 #include "engine/reference/gaussian_trace_ref.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"
@@ -315,4 +317,68 @@ GPU_TEST_CASE("Gaussian forward matches the double reference with faint Gaussian
   CHECK(cmp.worstColorRel <= 1e-4);
   CHECK(cmp.worstOpacity <= 1e-5);
   CHECK(cmp.worstDepthRel <= 1e-4);
+}
+
+// lavapipe builds its BVH over the primitives in the order given, splitting at the middle
+// index: without the median-split presort the tree is several times slower to trace, and no
+// image changes. So the order the builder receives is asserted itself.
+GPU_TEST_CASE("Gaussian proxies reach the BVH builder in median-split order") {
+  GaussianSet set = randomGaussians(rng, 600, testGaussianOptions());
+  DeviceGaussians dev = uploadGaussians(ctx, set);
+  GaussianTracer tracer = createGaussianTracer(ctx, 16);
+  GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
+  std::vector<Box> boxes(set.count());
+  for (size_t i = 0; i < set.count(); i++) gaussianProxyBox(set.at(i), &boxes[i].minX);
+  const std::vector<uint32_t> expected = medianSplitOrder(boxes);
+  REQUIRE(proxies.order == expected);
+  std::vector<uint32_t> identity(set.count());
+  std::iota(identity.begin(), identity.end(), 0u);
+  CHECK(expected != identity);  // random Gaussians: the split order differs from the input order
+  // The AABB buffer the BLAS is built from holds slot k's box = Gaussian order[k]'s (the
+  // shader's float box against the host's double one, within a margin).
+  std::vector<Box> built = downloadVector<Box>(ctx, proxies.boxes, set.count());
+  size_t misplaced = 0;
+  for (size_t k = 0; k < set.count(); k++) {
+    const Box& want = boxes[expected[k]];
+    const float* a = &built[k].minX;
+    const float* b = &want.minX;
+    for (int c = 0; c < 6; c++) misplaced += std::abs(a[c] - b[c]) > 1e-3f * (1.0f + std::abs(b[c]));
+  }
+  CHECK(misplaced == 0);
+}
+
+// A Gaussian larger than any scene (log-scales of 46.1, scale 1e20, as a hand-edited PLY can
+// hold) once made its box's bounds overflow the BVH build, and every ray missed every
+// Gaussian, while one of scale 1e19 rendered as a fog over the scene. Its box is clamped and
+// counted, and the scene renders as with the 1e19 one.
+GPU_TEST_CASE("one huge Gaussian leaves the rest of the scene visible, and its clamped proxy is counted") {
+  GaussianSet set = randomGaussians(rng, 400, testGaussianOptions());
+  auto rays = raysIntoVolume(rng, 400);
+  GaussianTracer tracer = createGaussianTracer(ctx, 16);
+  auto withScale = [&](ProxyKind kind, float logScale, uint32_t* clamped) {
+    GaussianSet g = set;
+    for (int a = 0; a < 3; a++) g.at(7)[f32::kGaussLogScale + a] = logScale;
+    g.at(7)[f32::kGaussLogitDensity] = -3.0f;  // alpha 0.05 everywhere: a light fog
+    DeviceGaussians dev = uploadGaussians(ctx, g);
+    GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, g, kind);
+    if (clamped) *clamped = proxies.clamped;
+    return traceGaussians(ctx, tracer, proxies, dev, rays, {});
+  };
+  for (ProxyKind kind : {ProxyKind::AabbBlas, ProxyKind::InstancedUnitBox}) {
+    CAPTURE(proxyKindName(kind));
+    uint32_t clamped = 0;
+    auto control = withScale(kind, 43.8f, nullptr);  // scale 1e19
+    auto huge = withScale(kind, 46.1f, &clamped);    // scale 1e20
+    if (kind == ProxyKind::AabbBlas) CHECK(clamped == 1);
+    double hitsControl = 0, hitsHuge = 0, worstOpacity = 0;
+    for (size_t i = 0; i < rays.size(); i++) {
+      hitsControl += control[i].hits;
+      hitsHuge += huge[i].hits;
+      worstOpacity = std::max(worstOpacity, double(std::abs(control[i].opacity - huge[i].opacity)));
+    }
+    INFO("hits per ray: scale 1e19 " << hitsControl / rays.size() << ", scale 1e20 " << hitsHuge / rays.size());
+    CHECK(hitsControl > 5.0 * rays.size());
+    CHECK(std::abs(hitsHuge - hitsControl) <= 0.02 * hitsControl);  // not "0.0 hits per ray"
+    CHECK(worstOpacity < 1e-3);
+  }
 }

@@ -147,6 +147,12 @@ TEST_CASE("refrax-view's baked water and mesh swaps match refrax render") {
   INFO(v.output);
   REQUIRE(v.exitCode == 0);
   CHECK(v.output.find("validation messages: 0") != std::string::npos);
+  // Without --view or --camera a run opens at its first test camera (not a free camera
+  // outside the rig, where a trained scene is all floaters).
+  auto home = runShell(viewer(run + " --size 64 --frames 2 --screenshot " + (dir / "home.png")));
+  INFO(home.output);
+  REQUIRE(home.exitCode == 0);
+  CHECK(maxDifference(readPng(dir / "home.png"), readPng(dir / "baked.png")) == 0.0);
   REQUIRE(test::runCli("render " + run + " -o " + (dir / "exact") + " --split test").exitCode == 0);
   REQUIRE(test::runCli("render " + run + " -o " + (dir / "removed") + " --split test --water remove").exitCode == 0);
   Image baked = readPng(dir / "baked.png"), exact = readPng(dir / "exact/test_000.png"), removed = readPng(dir / "removed/test_000.png");
@@ -247,7 +253,9 @@ TEST_CASE("refrax-view with a missing run or a bad PLY stops with one clear erro
                {"--ply " + (dir / "bad.ply"), "is not a PLY file"},
                {"--ply /no/such.ply", "cannot open Gaussian PLY"},
                {"/no/such/run --ply /no/such.ply", "not both"},
-               {"--gaussian-trace rays", "--gaussian-trace must be tiles or bvh"}};
+               {"--gaussian-trace rays", "--gaussian-trace must be tiles or bvh"},
+               {"--size 0", "--size must be between 1 and 8192"},
+               {"--bogus", "unknown option --bogus for 'refrax-view'"}};
   for (const auto& c : cases) {
     // checked before any window opens: the same error with or without a display
     auto r = runShell(std::string("env -u DISPLAY -u WAYLAND_DISPLAY ") + REFRAX_VIEWER + " " + c.args + " --frames 1");

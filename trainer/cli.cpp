@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 
 #include "engine/error.h"
 #include "engine/vk_context.h"
@@ -64,6 +65,25 @@ std::vector<Option> deviceOptions() {
           {"validation", "", "enable the Khronos validation layer (also REFRAX_VALIDATION=1)", ""}};
 }
 
+OutputFolder::~OutputFolder() {
+  std::error_code ec;
+  if (made && !kept && std::filesystem::is_empty(path, ec)) std::filesystem::remove(path, ec);
+}
+
+std::unique_ptr<OutputFolder> createOutputFolder(const std::string& path, const std::string& flag) {
+  auto folder = std::make_unique<OutputFolder>();
+  folder->path = path;
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) {
+    if (!std::filesystem::is_directory(path, ec)) fail(flag + " " + path + " exists and is not a folder");
+    return folder;
+  }
+  std::filesystem::create_directories(path, ec);
+  if (ec) fail(flag + " " + path + ": cannot create the folder (" + ec.message() + ")");
+  folder->made = true;
+  return folder;
+}
+
 std::unique_ptr<Context> openContext(const Args& args, bool verbose) {
   ContextOptions o;
   o.device = args.get("device");
@@ -95,7 +115,11 @@ Args parseArgs(const Command& command, int argc, char** argv, int first) {
       name = name.substr(0, eq);
     }
     auto opt = std::find_if(options.begin(), options.end(), [&](const Option& o) { return o.name == name; });
-    if (opt == options.end()) fail("unknown option --" + name + " for 'refrax " + command.name + "' (see --help)");
+    if (opt == options.end()) {
+      // refrax-view is a program of its own, not a refrax subcommand
+      std::string program = command.name.rfind("refrax", 0) == 0 ? command.name : "refrax " + command.name;
+      fail("unknown option --" + name + " for '" + program + "' (see --help)");
+    }
     if (opt->metavar.empty()) {
       if (inlineValue) fail("--" + name + " takes no value");
       args.values[name] = "1";

@@ -51,6 +51,19 @@ Args parseArgs(const Command& command, int argc, char** argv, int first);
 void printHelp(const Command& command);
 // Options every device-using command accepts: --device, --validation.
 std::vector<Option> deviceOptions();
+// Creates the output folder `path` (for `flag`, e.g. "-o") before any device work, so a
+// folder that cannot be made is one clear error; the returned guard removes it again, if this
+// call made it and it is still empty, unless keep() is called (the command succeeded).
+struct OutputFolder {
+  std::string path;
+  bool made = false, kept = false;
+  OutputFolder() = default;
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  ~OutputFolder();
+  void keep() { kept = true; }
+};
+std::unique_ptr<OutputFolder> createOutputFolder(const std::string& path, const std::string& flag);
 // The Vulkan context chosen by --device / --validation (and their environment variables).
 std::unique_ptr<Context> openContext(const Args& args, bool verbose = true);
 

@@ -58,6 +58,10 @@ int runRender(const cli::Args& args) {
   if (args.positional.size() != 1) fail("refrax render needs one run folder");
   if (!args.has("output")) fail("refrax render needs -o DIR");
   std::string run = args.positional[0], out = args.get("output");
+  std::error_code ec;
+  // As train -o: a render never mixes its images with a folder's older files.
+  if (fs::exists(out, ec) && !(fs::is_directory(out, ec) && fs::is_empty(out, ec)))
+    fail(out + " already exists and is not empty (render into a new folder, or remove it first)");
   std::string water = args.get("water", "keep");
   TrainConfig config = readRunConfig(run);
   WaterView mode = water == "keep" ? WaterView::Keep : water == "remove" ? WaterView::Remove : WaterView::Swap;
@@ -72,6 +76,7 @@ int runRender(const cli::Args& args) {
   std::vector<std::pair<std::string, Camera>> cameras;
   bool single = args.has("camera");
   std::string split = args.get("split", "test");
+  auto folder = cli::createOutputFolder(out, "-o");
   auto ctx = cli::openContext(args);
   auto session = openRun(*ctx, run);
   if (single) {
@@ -92,7 +97,7 @@ int runRender(const cli::Args& args) {
   if (waves) swap.emplace(createAnalyticHeightField(*ctx, *waves));
   std::optional<MeshSurface> swapMesh;
   if (mesh) swapMesh.emplace(createMeshSurface(*ctx, *mesh));
-  fs::create_directories(out);
+  folder->keep();
   for (const auto& [name, cam] : cameras) {
     RenderedView r = renderView(*session, cam, mode, SwapSurface{swap ? &*swap : nullptr, swapMesh ? &*swapMesh : nullptr});
     writePng((fs::path(out) / name).string(), r.image);

@@ -7,6 +7,7 @@
 
 #include "engine/fly_camera.h"
 #include "engine/error.h"
+#include "engine/gaussian_math.h"
 #include "engine/gaussian_trace.h"
 #include "engine/io/image_io.h"
 #include "engine/io/ply_gaussians.h"
@@ -37,6 +38,7 @@ std::vector<float> parseFloats(const std::string& text, size_t count, const char
 int runRenderGaussians(const cli::Args& args) {
   if (args.positional.size() != 1) fail("refrax render-gaussians needs one Gaussian PLY file");
   if (!args.has("out")) fail("refrax render-gaussians needs --out FILE.png");
+  if (!hasPngExtension(args.get("out"))) fail("--out must name a .png file (render-gaussians writes PNG), got '" + args.get("out") + "'");
   GaussianSet set = readGaussiansPly(args.positional[0]);
   FlyCamera cam = parseLookAt(args.get("camera", "0,-2,1.2,0,0,-0.5"));
   auto bg = parseFloats(args.get("background", "0,0,0"), 3, "background");
@@ -53,6 +55,9 @@ int runRenderGaussians(const cli::Args& args) {
   ProxyKind kind = proxyKindFor(args.get("proxy", "auto"), ctx->caps);
   DeviceGaussians dev = uploadGaussians(*ctx, set);
   GaussianProxies proxies = buildGaussianProxies(*ctx, tracer, dev, set, kind, false);
+  if (proxies.clamped)
+    std::fprintf(stderr, "refrax: %u of %zu Gaussians are larger than any scene: their proxy boxes were clamped to +-%.0e m\n",
+                 proxies.clamped, set.count(), double(f64::kMaxProxyHalfExtent));
   TraceOptions opt;
   for (int c = 0; c < 3; c++) opt.background[c] = bg[c];
   opt.shDegree = uint32_t(degree);

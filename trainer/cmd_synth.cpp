@@ -66,7 +66,7 @@ int runSynth(const cli::Args& args) {
   synth::SynthPreset preset = synth::makeSynthPreset(name, size == "tiny" ? synth::SynthSize::Tiny : synth::SynthSize::Full,
                                                      uint64_t(seed), findTextureDir(args));
   synth::SynthVariation variation;
-  variation.width = int(args.getInt("width", 0));
+  if (args.has("width")) variation.width = int(args.getIntIn("width", 0, 8, 8192));  // 0 is the size's own, never asked for
   variation.amplitudeScale = args.getDouble("wave-amplitude", 1.0);
   variation.wavelengthScale = args.getDouble("wavelength", 1.0);
   variation.tiltDeg = args.getDouble("tilt", 0.0);

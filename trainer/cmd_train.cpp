@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 
 #include "engine/dataset/dataset.h"
 #include "engine/error.h"
@@ -102,9 +103,20 @@ TrainConfig configFromArgs(const cli::Args& a) {
   return c;
 }
 
+// What --resume accepts besides the run: how far it goes, how it reports, and the device.
+const std::set<std::string>& resumeOptions() {
+  static const std::set<std::string> names = [] {
+    std::set<std::string> n = {"resume", "steps", "progress-every", "eval-every", "checkpoint-every", "profile"};
+    for (const cli::Option& o : cli::deviceOptions()) n.insert(o.name);
+    return n;
+  }();
+  return names;
+}
+
 void printSummary(const nlohmann::json& m) {
   std::printf("test psnr %.3f  ssim %.4f", m["psnr"].get<double>(), m["ssim"].get<double>());
   if (m.contains("surface_rmse")) std::printf("  surface rmse %.5f (initial flat %.5f)", m["surface_rmse"].get<double>(), m["initial_flat_surface_rmse"].get<double>());
+  if (m.contains("surface_rmse_missing")) std::printf("  surface rmse n/a: %s", m["surface_rmse_missing"].get<std::string>().c_str());
   if (m.contains("water_removal_psnr")) std::printf("  water-removal psnr %.3f", m["water_removal_psnr"].get<double>());
   std::printf("  gaussians %llu  %.1f s\n", (unsigned long long)m["gaussians"].get<uint64_t>(), m["training_seconds"].get<double>());
 }
@@ -116,13 +128,40 @@ int runTrain(const cli::Args& args) {
   progress.profile = args.has("profile");
   if (args.has("resume")) {
     if (!args.positional.empty() || args.has("output")) fail("--resume RUN takes no dataset and no -o: the run folder holds both");
+    // The run's configuration is RUN/config.json; only how far and how it reports may change.
+    for (const auto& [name, value] : args.values)
+      if (!resumeOptions().count(name))
+        fail("--" + name + " cannot change when a run resumes (RUN/config.json holds the run's configuration); with --resume only " +
+             "--steps, --progress-every, --eval-every, --checkpoint-every, --profile and the device options apply");
     std::string run = args.get("resume");
-    readRunConfig(run);
+    TrainConfig stored = readRunConfig(run);
     std::string ckpt = latestCheckpoint(run);
     if (ckpt.empty()) fail(run + " has no checkpoint to resume from");
-    verifyCheckpointFile(ckpt);
+    try {
+      verifyCheckpointFile(ckpt);
+    } catch (const Error& e) {
+      // Offer an intact older checkpoint rather than resume from it unasked (it loses steps).
+      std::string older = intactCheckpointBefore(run, checkpointStep(ckpt));
+      if (older.empty()) throw;
+      fail(std::string(e.what()) + "; " + older + " is intact: remove " + ckpt + " to resume from it");
+    }
+    if (args.has("steps")) {
+      int steps = int(positiveCount(args, "steps", stored.steps, 1, 10000000));
+      int reached = checkpointStep(ckpt);
+      if (steps < reached)
+        fail("--steps " + std::to_string(steps) + " is below the step the run has reached (" + std::to_string(reached) + ", " + ckpt + ")");
+      stored.steps = steps;
+    }
+    if (args.has("progress-every")) stored.progressEvery = int(positiveCount(args, "progress-every", 50, 1, 100000000));
+    if (args.has("eval-every")) stored.evalEvery = int(positiveCount(args, "eval-every", 0, 0, 100000000));
+    if (args.has("checkpoint-every")) stored.checkpointEvery = int(positiveCount(args, "checkpoint-every", 500, 0, 100000000));
     auto ctx = cli::openContext(args);
     auto session = openRun(*ctx, run);
+    session->config.steps = stored.steps;
+    session->config.progressEvery = stored.progressEvery;
+    session->config.evalEvery = stored.evalEvery;
+    session->config.checkpointEvery = stored.checkpointEvery;
+    writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->config));
     std::fprintf(stderr, "resuming %s at step %d of %d\n", run.c_str(), session->step, session->config.steps);
     printSummary(trainToEnd(*session, run, progress));
     if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->profiler).c_str());
@@ -140,10 +179,11 @@ int runTrain(const cli::Args& args) {
   Dataset dataset = loadDataset(config.dataset, config.datasetOptions);
   keepTrainViews(dataset, config.trainViews);  // before the scene bounds: they come from the views trained on
   resolveSceneConfig(config, dataset);
+  // Everything checked: the run folder appears only now (and goes again if the device fails).
+  auto folder = cli::createOutputFolder(run, "-o");
   auto ctx = cli::openContext(args);
   auto session = createTrainSession(*ctx, config, std::move(dataset));
-  // Everything checked: the run folder appears only now.
-  fs::create_directories(run);
+  folder->keep();
   writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->config));
   std::fprintf(stderr, "training %s (%s): %u Gaussians, %d steps, %zu training views -> %s\n", config.dataset.c_str(),
                waterModelName(config.model), config.initialGaussians, config.steps, session->dataset.split("train").size(), run.c_str());
@@ -155,7 +195,7 @@ int runTrain(const cli::Args& args) {
 std::vector<cli::Option> trainOptions() {
   std::vector<cli::Option> o = {
       {"output", "RUN", "output folder (-o); must not exist or be empty", ""},
-      {"resume", "RUN", "continue RUN from its newest checkpoint", ""},
+      {"resume", "RUN", "continue RUN from its newest checkpoint (with --steps N: on to step N; only --steps, --progress-every, --eval-every, --checkpoint-every, --profile and the device options may be given)", ""},
       {"no-refraction", "", "comparison: plain 3DGRT, straight rays, no water surface", ""},
       {"flat-water", "", "comparison: a flat water plane whose only parameter, its height, is learned", ""},
       {"known-water", "", "oracle: the dataset's ground-truth surface (water.json), fixed; only the Gaussians learn", ""},

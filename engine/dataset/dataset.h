@@ -62,6 +62,11 @@ struct Rect {
 };
 
 struct WaterMetadata {
+  // water.json "frame": "loaded" (the default: its values are in the frame the loader makes, for
+  // LLFF the recentred and scaled one) or "dataset" (in the frame of the dataset's own poses: an
+  // LLFF dataset's poses are then used as they are, neither recentred nor scaled; `refrax synth`
+  // writes this, so its LLFF files load with its water.json).
+  bool datasetFrame = false;
   double ior = 1.33;
   std::optional<double> height;  // initial (mean) water height, world z
   std::optional<double> depth;   // how far under the water the scene reaches
@@ -101,13 +106,14 @@ void validateCameraToWorld(const glm::dmat4& cameraToWorld, const std::string& w
 
 // The LLFF conventions above as a pure function: rows of poses_bounds.npy (17 values each)
 // to cameras (focal divided by `factor`, size from width/height given) and bounds, scaled and
-// recentred; `normalization` receives the map from the original frame.
+// recentred (unless `keepFrame`: water.json's "frame": "dataset"); `normalization` receives
+// the map from the original frame.
 struct LlffCameras {
   std::vector<Camera> cameras;
   std::vector<double> nearBounds, farBounds;
   glm::dmat4 normalization{1.0};
 };
 LlffCameras llffCameras(const std::vector<double>& posesBounds, size_t count, int factor, int imageWidth, int imageHeight,
-                        const std::string& where);
+                        const std::string& where, bool keepFrame = false);
 
 }  // namespace refrax

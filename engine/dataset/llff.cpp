@@ -28,9 +28,20 @@ std::vector<std::string> imageFiles(const std::string& dir) {
   return files;
 }
 
+// Every camera at one point (poses written as integers, or copied rows) cannot be trained on.
+void requireDistinctCameras(const std::vector<Camera>& cameras, const std::string& where) {
+  if (cameras.size() < 2) return;
+  glm::dvec3 first = cameras[0].position();
+  for (const Camera& c : cameras)
+    if (glm::length(c.position() - first) > 1e-9) return;
+  fail(where + ": every camera is at the same point (" + std::to_string(first.x) + ", " + std::to_string(first.y) + ", " +
+       std::to_string(first.z) + "); the poses cannot be told apart");
+}
+
 }  // namespace
 
-LlffCameras llffCameras(const std::vector<double>& pb, size_t count, int factor, int imageWidth, int imageHeight, const std::string& where) {
+LlffCameras llffCameras(const std::vector<double>& pb, size_t count, int factor, int imageWidth, int imageHeight, const std::string& where,
+                        bool keepFrame) {
   if (pb.size() != count * 17) fail(where + ": expected " + std::to_string(count) + " rows of 17 values");
   if (factor < 1) fail(where + ": the image factor must be at least 1");
   LlffCameras out;
@@ -69,6 +80,11 @@ LlffCameras llffCameras(const std::vector<double>& pb, size_t count, int factor,
     out.nearBounds.push_back(nearB);
     out.farBounds.push_back(farB);
   }
+  if (keepFrame) {
+    for (size_t i = 0; i < count; i++) out.cameras[i].cameraToWorld = poses[i];
+    requireDistinctCameras(out.cameras, where);
+    return out;
+  }
   // scale by the near bound (bd_factor 0.75)
   const double s = 1.0 / (0.75 * minNear);
   for (auto& m : poses) m[3] = glm::dvec4(glm::dvec3(m[3]) * s, 1.0);
@@ -90,6 +106,7 @@ LlffCameras llffCameras(const std::vector<double>& pb, size_t count, int factor,
   glm::dmat4 average(glm::dvec4(right, 0), glm::dvec4(up, 0), glm::dvec4(back, 0), glm::dvec4(centre, 1));
   glm::dmat4 toCentred = glm::inverse(average);
   for (size_t i = 0; i < count; i++) out.cameras[i].cameraToWorld = toCentred * poses[i];
+  requireDistinctCameras(out.cameras, where);
   glm::dmat4 scale(1.0);
   scale[0][0] = scale[1][1] = scale[2][2] = s;
   out.normalization = toCentred * scale;
@@ -100,6 +117,7 @@ Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options
   const std::string npyPath = folder + "/poses_bounds.npy";
   NpyArray pb = readNpy(npyPath);
   if (pb.shape.size() != 2 || pb.shape[1] != 17) fail(npyPath + ": expected an N x 17 array");
+  if (pb.integer) fail(npyPath + " holds integers: LLFF poses and bounds are float32 or float64 (integer rounding would move the cameras)");
   const size_t n = pb.shape[0];
   if (n == 0) fail(npyPath + ": no poses");
   const std::string imageDir = folder + (options.llffFactor == 1 ? "/images" : "/images_" + std::to_string(options.llffFactor));
@@ -114,7 +132,8 @@ Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options
     int w = images.empty() ? 0 : images[0].width, h = images.empty() ? 0 : images[0].height;
     images.push_back(loadViewImage(imageDir + "/" + files[i], w, h, options.background, npyPath + ": view " + std::to_string(i)));
   }
-  LlffCameras cams = llffCameras(pb.data, n, options.llffFactor, images[0].width, images[0].height, npyPath);
+  WaterMetadata water = loadWaterMetadata(folder, options);  // its frame decides whether the poses are recentred
+  LlffCameras cams = llffCameras(pb.data, n, options.llffFactor, images[0].width, images[0].height, npyPath, water.datasetFrame);
 
   Dataset d;
   d.root = folder;
@@ -130,7 +149,7 @@ Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options
     d.splits[i % size_t(options.llffHold) == 0 ? "test" : "train"].push_back(std::move(v));
   }
   if (d.splits["train"].empty()) fail("LLFF dataset " + folder + ": no training views remain after holding out every " + std::to_string(options.llffHold) + "th");
-  d.water = loadWaterMetadata(folder, options);
+  d.water = water;
   return d;
 }
 

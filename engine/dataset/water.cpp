@@ -14,6 +14,11 @@ WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions&
   if (fileExists(path)) {
     nlohmann::json j = readDatasetJson(path);
     if (!j.is_object()) fail(path + ": expected a JSON object");
+    if (j.contains("frame")) {
+      if (!j["frame"].is_string() || (j["frame"] != "loaded" && j["frame"] != "dataset"))
+        fail(path + ": 'frame' must be \"loaded\" (the loader's frame, the default) or \"dataset\" (the poses' own frame)");
+      w.datasetFrame = j["frame"] == "dataset";
+    }
     if (j.contains("ior")) w.ior = requireNumber(j, "ior", path);
     if (j.contains("height")) w.height = requireNumber(j, "height", path);
     // `refrax synth` writes the mean water level as "mean_height"
@@ -30,15 +35,19 @@ WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions&
       w.domain = Rect{v[0], v[1], v[2], v[3]};
     }
   }
+  // Each value is checked where it came from: the file, or the flag that overrides it.
+  auto from = [&](bool flag, const char* name) { return flag ? std::string(name) : path; };
   if (options.ior) w.ior = *options.ior;
   if (options.waterHeight) w.height = *options.waterHeight;
   if (options.waterDepth) w.depth = *options.waterDepth;
   if (options.domain) w.domain = *options.domain;
-  if (!std::isfinite(w.ior) || w.ior < 1.0) fail(path + ": the index of refraction must be a finite number >= 1, got " + std::to_string(w.ior));
-  if (w.height && !std::isfinite(*w.height)) fail(path + ": the water height is not finite");
-  if (w.depth && !(*w.depth > 0 && std::isfinite(*w.depth))) fail(path + ": the water depth must be positive");
+  if (!std::isfinite(w.ior) || w.ior < 1.0)
+    fail(from(options.ior.has_value(), "--ior") + ": the index of refraction must be a finite number >= 1, got " + std::to_string(w.ior));
+  if (w.height && !std::isfinite(*w.height)) fail(from(options.waterHeight.has_value(), "--water-height") + ": the water height is not finite");
+  if (w.depth && !(*w.depth > 0 && std::isfinite(*w.depth)))
+    fail(from(options.waterDepth.has_value(), "--water-depth") + ": the water depth must be a positive number");
   if (w.domain && !(w.domain->xMax > w.domain->xMin && w.domain->yMax > w.domain->yMin))
-    fail(path + ": the surface domain is empty (need xmin < xmax and ymin < ymax)");
+    fail(from(options.domain.has_value(), "--domain") + ": the surface domain is empty (need xmin < xmax and ymin < ymax)");
   return w;
 }
 

@@ -267,6 +267,9 @@ SurfaceMesh readSurfaceGltf(const std::string& path) {
     std::string message = err.empty() ? warn : err;
     while (!message.empty() && (message.back() == '\n' || message.back() == '\r')) message.pop_back();
     std::replace(message.begin(), message.end(), '\n', ' ');
+    // tinygltf quotes what it failed on, a whole data: URI of base64 at times: keep one line short.
+    constexpr size_t kMaxMessage = 240;
+    if (message.size() > kMaxMessage) message = message.substr(0, kMaxMessage) + "... (" + std::to_string(message.size()) + " characters)";
     fail("glTF " + path + " is malformed: " + (message.empty() ? "tinygltf could not parse it" : message));
   }
 

@@ -1,6 +1,7 @@
 #include "engine/io/image_io.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
@@ -42,6 +43,13 @@ void writePng(const std::string& path, const Image& image) {
                               image.width * image.channels))
     fail("cannot encode PNG " + path);
   writeFileAtomic(path, encoded.data(), encoded.size());
+}
+
+bool hasPngExtension(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string ext = path.substr(path.size() - 4);
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png";
 }
 
 }  // namespace refrax

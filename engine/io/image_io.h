@@ -15,5 +15,8 @@ struct Image {
 
 Image readPng(const std::string& path);                 // any 8-bit PNG (or JPEG) stb reads; clear error otherwise
 void writePng(const std::string& path, const Image& image);  // values clamped to [0,1], rounded; written atomically
+// Whether `path` ends in .png (any case): where a user names the file, a PNG must not be
+// written under another image format's name.
+bool hasPngExtension(const std::string& path);
 
 }  // namespace refrax

@@ -41,8 +41,16 @@ NpyArray parseNpy(const std::string& bytes, const std::string& name) {
   NpyArray a;
   std::string dims = m[1];
   std::regex num("(\\d+)");
-  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), num); it != std::sregex_iterator(); ++it)
-    a.shape.push_back(std::stoull((*it)[1]));
+  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), num); it != std::sregex_iterator(); ++it) {
+    const std::string digits = (*it)[1];
+    if (digits.size() > 12) bad("a dimension of the shape (" + digits.substr(0, 20) + ") is too large");
+    a.shape.push_back(std::stoull(digits));
+  }
+  size_t elements = 1;
+  for (size_t d : a.shape) {
+    if (d != 0 && elements > (uint64_t(1) << 40) / d) bad("the shape holds more than 2^40 values");
+    elements *= d;
+  }
   size_t width;
   if (descr == "<f4" || descr == "<i4") width = 4;
   else if (descr == "<f8" || descr == "<i8") width = 8;
@@ -51,6 +59,7 @@ NpyArray parseNpy(const std::string& bytes, const std::string& name) {
   if (bytes.size() - start != n * width)
     bad("data holds " + std::to_string(bytes.size() - start) + " bytes, the shape needs " + std::to_string(n * width));
   a.data.resize(n);
+  a.integer = descr[1] == 'i';
   const char* p = bytes.data() + start;
   for (size_t i = 0; i < n; i++, p += width) {
     if (descr == "<f4") { float v; std::memcpy(&v, p, 4); a.data[i] = v; }

@@ -10,6 +10,7 @@ namespace refrax {
 struct NpyArray {
   std::vector<size_t> shape;
   std::vector<double> data;  // row-major (C order)
+  bool integer = false;      // the file held integers (<i4, <i8), converted
   size_t size() const;
 };
 

@@ -115,6 +115,18 @@ GaussianSet readGaussiansPly(const std::string& path) {
   }
   if (!slots.empty()) fail(where + " lacks the property '" + slots.begin()->first + "'");
 
+  // The body must hold exactly the header's vertices: fewer is a truncated file, more is data
+  // the header does not describe (a count edited by hand, or two files joined).
+  const std::streamoff bodyStart = in.tellg();
+  in.seekg(0, std::ios::end);
+  const uint64_t body = uint64_t(in.tellg() - bodyStart);
+  in.seekg(bodyStart);
+  if (stride == 0) fail(where + ": the vertex element has no properties");
+  if (count > body / stride)
+    fail(where + " is truncated: " + std::to_string(body / stride) + " of " + std::to_string(count) + " Gaussians present");
+  if (body > uint64_t(count) * stride)
+    fail(where + " holds " + std::to_string(body - uint64_t(count) * stride) + " bytes after the " + std::to_string(count) +
+         " Gaussians its header gives (" + std::to_string(body / stride) + " would fit): the vertex count is wrong or data was appended");
   std::vector<char> data(count * stride);
   in.read(data.data(), std::streamsize(data.size()));
   if (size_t(in.gcount()) != data.size())

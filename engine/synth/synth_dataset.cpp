@@ -272,6 +272,9 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
   water["description"] = p.description;
   water["size"] = o.sizeName;
   water["seed"] = o.seed;
+  // The values are in the poses' own frame: poses_bounds.npy is then loaded as written (not
+  // recentred), so the LLFF layout alone loads with this file as the Blender one does.
+  water["frame"] = "dataset";
   water["ior"] = p.ior;
   water["mean_height"] = w.meanHeight;
   water["domain"] = domain;

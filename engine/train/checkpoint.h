@@ -20,6 +20,11 @@ void saveCheckpoint(TrainSession& session, const std::string& runDir);
 std::string latestCheckpoint(const std::string& runDir);
 // Checks the file's magic, version and checksum without a session (refrax::Error otherwise).
 void verifyCheckpointFile(const std::string& path);
+// The step of a checkpoint from its file name (-1 when it is not one).
+int checkpointStep(const std::string& path);
+// The newest checkpoint of the run before `step` that verifies ("" when none does): what a
+// run whose newest checkpoint is corrupted can resume from.
+std::string intactCheckpointBefore(const std::string& runDir, int step);
 // Restores a session created from the run's config.json.
 void loadCheckpoint(TrainSession& session, const std::string& path);
 

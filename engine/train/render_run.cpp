@@ -144,6 +144,9 @@ nlohmann::json evaluateSession(TrainSession& s, const Dataset& data, const std::
     m["surface_rmse"] = surfaceRmse(*truth, points);
     m["surface_points"] = points.size();
     m["initial_flat_surface_rmse"] = surfaceRmse(*truth, planePoints);
+  } else if (truth && s.surface) {
+    // Measured where the test rays meet the water: none did, so there is no error to give.
+    m["surface_rmse_missing"] = "no test ray met the water surface inside its domain (" + std::to_string(missed) + " missed it)";
   } else if (truth && s.config.model == WaterModel::NoRefraction) {
     // No surface is modelled: its surface is the initial flat plane (reported for comparison).
     std::vector<glm::dvec3> plane;

@@ -37,6 +37,10 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
     c.boxMax[a] = b.max[a];
   }
   c.extent = sceneExtent(cams);
+  for (const Camera& cam : cams)
+    if (c.patch > 0 && (int(c.patch) > cam.width || int(c.patch) > cam.height))
+      fail("--patch " + std::to_string(c.patch) + " is larger than the " + std::to_string(cam.width) + " x " + std::to_string(cam.height) +
+           " training images (0 trains on whole images)");
   resolveSchedule(c);
   validateTrainConfig(c);
   if (c.model == WaterModel::KnownWater) loadGroundTruthWaves(d);  // refused before any device work

@@ -475,6 +475,35 @@ bool surfaceStepAt(const TrainSession& s, int t) {
   return waterLearnsAt(s, t) && (t - s.config.schedule.surfaceFreeze) % surfaceBatchSteps(s) == 0;
 }
 
+// Stops training (refrax::Error) when the water the training views see has left the scene:
+// a height outside the span from the bottom of the Gaussians' box to the lowest training
+// camera, or not finite. A diverged surface (too fast a learning rate) otherwise trains on
+// with every ray missing it and ends as a normal run.
+void requireSurfaceInScene(TrainSession& s, int t) {
+  WaterSurface& ws = *s.surface;
+  if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = trainingViewWeights(s);
+  const std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
+  double low = INFINITY, high = -INFINITY;
+  bool finite = true;
+  for (size_t k = 0; k < heights.size(); k++)
+    if (s.anchorWeights[k] > 0) {
+      finite = finite && std::isfinite(heights[k]);
+      low = std::min(low, double(heights[k]));
+      high = std::max(high, double(heights[k]));
+    }
+  double lowestCamera = INFINITY;
+  for (const View& v : s.dataset.split("train")) lowestCamera = std::min(lowestCamera, v.camera.position().z);
+  const double bottom = s.config.boxMin[2];
+  if (finite && low > bottom && high < lowestCamera) return;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "the water surface diverged at step %d: the heights the training views see run from %.3g to %.3g m%s, outside the scene "
+                "between the Gaussians' box bottom (z = %.3g) and the lowest camera (z = %.3g); a lower --surface-lr (now %g) or "
+                "--surface-batch views keeps the surface in the scene",
+                t, low, high, finite ? "" : " (some not finite)", bottom, lowestCamera, s.config.surfaceLearningRate);
+  fail(text);
+}
+
 // One surface step at step t: the priors' gradient for the batch's steps, the batch's
 // dL/dheight into the parameters, one Adam step, and the surface lifted again (the next
 // encoding window, the mean height anchored). The heights do not change between surface
@@ -505,6 +534,8 @@ void surfaceStep(TrainSession& s, int t) {
     HeightSource source = currentHeightSource(s);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, source); });
   }
+  HostStage h(ctx, "water divergence check (host)");
+  requireSurfaceInScene(s, t);
 }
 
 // The Gaussians' step after the backward: the density regulariser's gradient, Adam and the

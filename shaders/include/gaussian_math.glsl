@@ -29,6 +29,10 @@ const real kMinKernelResponse = real(0.0113);
 const real kMinAlpha = real(1.0) / real(255.0);
 const real kMaxAlpha = real(0.99);
 const real kMinTransmittance = real(0.001);
+// Largest half extent of a proxy box (metres). A Gaussian larger than any scene (a log-scale
+// of 46, scale 1e20, in a PLY) gave a box whose bounds overflow the BVH build's float
+// arithmetic, and every ray then missed every Gaussian; clamped, its box still covers the scene.
+const real kMaxProxyHalfExtent = real(1e15);
 
 SHARED_FN real sigmoidOf(real x) { return real(1) / (real(1) + exp(-x)); }
 
