@@ -33,7 +33,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   build-essential cmake pkg-config git \
   libvulkan-dev libvulkan-volk-dev vulkan-validationlayers glslang-tools spirv-tools vulkan-tools \
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglfw3-dev libimgui-dev doctest-dev \
-  xvfb xauth >/dev/null
+  xvfb xauth clang-14 libfuzzer-14-dev >/dev/null  # clang and libFuzzer: the loaders' fuzz targets (fuzz/)
 $SUDO apt-get install -y -qq --no-install-recommends -t bookworm-backports \
   mesa-vulkan-drivers >/dev/null
 echo "install-deps: done ($(dpkg-query -W -f='${Version}' mesa-vulkan-drivers) mesa-vulkan-drivers)"

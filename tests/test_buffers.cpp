@@ -1,4 +1,5 @@
 // Buffers and plain compute dispatch against CPU results, with outputs poisoned first.
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -98,8 +99,11 @@ GPU_TEST_CASE("the staging path (device memory the host cannot map) round-trips 
   for (size_t i = 0; i < x.size(); i++) REQUIRE(y[i] == doctest::Approx(2.0f * x[i] - 1.0f).epsilon(1e-6));
 }
 
-GPU_TEST_CASE("GPU timestamps time each stage in order") {
-  if (!ctx.caps.timestamps) return;
+GPU_TEST_CASE("GPU timestamps name each stage in order, in milliseconds within the submission's wall time") {
+  if (!ctx.caps.timestamps) {
+    MESSAGE("skipped: " << ctx.caps.name << " writes no compute timestamps (the profile then times host stages only)");
+    return;
+  }
   GpuTimer timer;
   createTimer(ctx, timer, 8);
   const uint32_t n = 1 << 20;
@@ -109,6 +113,7 @@ GPU_TEST_CASE("GPU timestamps time each stage in order") {
     uint32_t count;
   } push{1.0f, 1.0f, n};
   ComputePipeline p = createComputePipeline(ctx, "scale_add", {kStorageBuffer, kStorageBuffer}, sizeof(push));
+  auto start = std::chrono::steady_clock::now();
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     cmdTimerStart(cb, timer);
     cmdDispatch(cb, p, {bind(xb), bind(yb)}, &push, groupsFor(n, 64));
@@ -118,11 +123,15 @@ GPU_TEST_CASE("GPU timestamps time each stage in order") {
     cmdDispatch(cb, p, {bind(xb), bind(yb)}, &push, 1);
     cmdTimerStamp(cb, timer, "small");
   });
+  const double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   auto stages = readTimer(timer);
   REQUIRE(stages.size() == 2);
   CHECK(stages[0].first == "big");
   CHECK(stages[1].first == "small");
-  CHECK(stages[0].second > 0.0);
+  // No timing is compared (a test must not depend on speed): what must hold on any device is
+  // that the stages are non-negative and, in milliseconds, fit inside the submission that
+  // contained them (a wrong timestampPeriod scale would not).
+  CHECK(stages[0].second >= 0.0);
   CHECK(stages[1].second >= 0.0);
-  CHECK(stages[0].second > stages[1].second);  // a million elements take longer than 64
+  CHECK(stages[0].second + stages[1].second <= wallMs);
 }

@@ -1,6 +1,7 @@
 // LLFF dataset loader with NeRF's load_llff.py conventions (documented in engine/dataset/dataset.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "engine/dataset/dataset.h"
@@ -15,6 +16,13 @@ namespace {
 namespace fs = std::filesystem;
 
 glm::dvec3 normalized(const glm::dvec3& v) { return v / glm::length(v); }
+
+// A value of the file as the message shows it (%g: any double, not only those an int holds).
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
 
 std::vector<std::string> imageFiles(const std::string& dir) {
   std::vector<std::string> files;
@@ -65,7 +73,7 @@ LlffCameras llffCameras(const std::vector<double>& pb, size_t count, int factor,
     // images_<factor> must be the full-resolution images scaled by 1/factor (rounded)
     if (std::abs(imageWidth - w / factor) >= 1.0 || std::abs(imageHeight - h / factor) >= 1.0)
       fail(at + ": images are " + std::to_string(imageWidth) + "x" + std::to_string(imageHeight) + ", the poses say " +
-           std::to_string(int(w)) + "x" + std::to_string(int(h)) + " / " + std::to_string(factor));
+           number(w) + "x" + number(h) + " / " + std::to_string(factor));
     double nearB = row[15], farB = row[16];
     if (!(nearB > 0) || !(farB >= nearB)) fail(at + ": bounds must satisfy 0 < near <= far");
     minNear = std::min(minNear, nearB);

@@ -7,71 +7,14 @@
 
 #include "engine/error.h"
 #include "engine/io/atomic_file.h"
+#include "engine/train/checkpoint_format.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
 
 namespace refrax {
 namespace {
 
-constexpr char kMagic[8] = {'R', 'F', 'X', 'C', 'K', 'P', 'T', '\0'};
-// Version 2 added the surface gradients summed since the last surface step (--surface-batch);
-// version 1 files (every step a surface step) load with those sums at zero.
-constexpr uint32_t kVersion = 2;
 constexpr int kKept = 2;
-
-uint32_t fnv1a(const char* data, size_t n) {
-  uint32_t h = 2166136261u;
-  for (size_t i = 0; i < n; i++) h = (h ^ uint8_t(data[i])) * 16777619u;
-  return h;
-}
-
-struct Writer {
-  std::string bytes;
-  void raw(const void* p, size_t n) { bytes.append(static_cast<const char*>(p), n); }
-  template <class T>
-  void value(const T& v) { raw(&v, sizeof(T)); }
-  void section(const void* p, size_t n) {
-    value(uint64_t(n));
-    raw(p, n);
-  }
-  template <class T>
-  void vec(const std::vector<T>& v) { section(v.data(), v.size() * sizeof(T)); }
-  void text(const std::string& s) { section(s.data(), s.size()); }
-};
-
-struct Reader {
-  const std::string& bytes;
-  std::string path;
-  size_t at = 0;
-  void raw(void* p, size_t n) {
-    if (at + n > bytes.size()) fail("checkpoint " + path + " is truncated");
-    std::memcpy(p, bytes.data() + at, n);
-    at += n;
-  }
-  template <class T>
-  T value() {
-    T v;
-    raw(&v, sizeof(T));
-    return v;
-  }
-  std::string section() {
-    uint64_t n = value<uint64_t>();
-    if (n > bytes.size() - at) fail("checkpoint " + path + " is truncated");
-    std::string s = bytes.substr(at, n);
-    at += n;
-    return s;
-  }
-  template <class T>
-  std::vector<T> vec(size_t expected, const char* what) {
-    std::string s = section();
-    if (s.size() != expected * sizeof(T))
-      fail("checkpoint " + path + ": " + what + " holds " + std::to_string(s.size() / sizeof(T)) + " values, expected " +
-           std::to_string(expected));
-    std::vector<T> v(expected);
-    if (!s.empty()) std::memcpy(v.data(), s.data(), s.size());
-    return v;
-  }
-};
 
 int stepOfName(const std::string& name) {
   if (name.rfind("step_", 0) != 0 || name.size() < 11 || name.substr(name.size() - 5) != ".ckpt") return -1;
@@ -121,42 +64,38 @@ std::string intactCheckpointBefore(const std::string& runDir, int step) {
 void saveCheckpoint(TrainSession& s, const std::string& runDir) {
   pushWaterGradient(s);  // the water's pending gradient is saved as the parameters' (heightGrad, planeGrad)
   Context& ctx = *s.ctx;
-  Writer w;
-  w.raw(kMagic, 8);
-  w.value(kVersion);
-  w.text(waterModelName(s.config.model));
-  w.value(int32_t(s.step));
-  w.value(s.trainingSeconds);
+  CheckpointContents c;
+  c.model = waterModelName(s.config.model);
+  c.step = int32_t(s.step);
+  c.trainingSeconds = s.trainingSeconds;
   std::ostringstream rng;
   rng << s.rng;
-  w.text(rng.str());
-  w.vec(s.viewOrder);
-  w.value(s.viewCursor);
-  w.value(uint64_t(s.gaussians.count()));
-  w.vec(s.gaussians.params);
-  w.vec(s.gaussianAdam.m);
-  w.vec(s.gaussianAdam.v);
-  for (const auto& g : s.gaussianAdam.groups) w.value(int32_t(g.step));
-  w.vec(s.densifyStats);
-  uint64_t heightCount = s.height ? s.height->parameterCount : 0;
-  w.value(heightCount);
+  c.rng = rng.str();
+  c.viewOrder = s.viewOrder;
+  c.viewCursor = s.viewCursor;
+  c.gaussians = s.gaussians.count();
+  c.params = s.gaussians.params;
+  c.adamM = s.gaussianAdam.m;
+  c.adamV = s.gaussianAdam.v;
+  for (const auto& g : s.gaussianAdam.groups) c.groupSteps.push_back(int32_t(g.step));
+  c.densifyStats = s.densifyStats;
+  c.heightCount = s.height ? s.height->parameterCount : 0;
   if (s.height) {
-    w.vec(downloadWeights(ctx, *s.height));
-    w.vec(downloadVector<float>(ctx, s.heightAdam.m, heightCount));
-    w.vec(downloadVector<float>(ctx, s.heightAdam.v, heightCount));
-    w.value(int32_t(s.heightAdam.step));
-    w.vec(downloadVector<float>(ctx, s.heightGrad, heightCount));
+    c.heightWeights = downloadWeights(ctx, *s.height);
+    c.heightM = downloadVector<float>(ctx, s.heightAdam.m, c.heightCount);
+    c.heightV = downloadVector<float>(ctx, s.heightAdam.v, c.heightCount);
+    c.heightStep = int32_t(s.heightAdam.step);
+    c.heightGrad = downloadVector<float>(ctx, s.heightGrad, c.heightCount);
   }
-  w.value(s.planeHeight);
-  w.value(s.planeM);
-  w.value(s.planeV);
-  w.value(int32_t(s.planeStep));
-  w.value(s.planeGrad);
-  uint32_t sum = fnv1a(w.bytes.data(), w.bytes.size());
-  w.value(sum);
+  c.planeHeight = s.planeHeight;
+  c.planeM = s.planeM;
+  c.planeV = s.planeV;
+  c.planeStep = int32_t(s.planeStep);
+  c.planeGrad = s.planeGrad;
+  const std::string bytes = encodeCheckpoint(c);
 
   std::filesystem::create_directories(std::filesystem::path(runDir) / "checkpoints");
-  writeFileAtomic(checkpointPath(runDir, s.step), w.bytes.data(), w.bytes.size());
+  writeFileAtomic(checkpointPath(runDir, s.step), bytes.data(), bytes.size());
   // Keep the newest kKept checkpoints.
   std::vector<int> steps;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(runDir) / "checkpoints")) {
@@ -167,91 +106,46 @@ void saveCheckpoint(TrainSession& s, const std::string& runDir) {
   for (size_t i = 0; i + kKept < steps.size(); i++) std::filesystem::remove(checkpointPath(runDir, steps[i]));
 }
 
-namespace {
-
-void verifyBytes(const std::string& bytes, const std::string& path) {
-  if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 8) != 0) fail("checkpoint " + path + " is not a Refrax checkpoint");
-  uint32_t stored;
-  std::memcpy(&stored, bytes.data() + bytes.size() - 4, 4);
-  if (stored != fnv1a(bytes.data(), bytes.size() - 4)) fail("checkpoint " + path + " is corrupted (checksum mismatch)");
-}
-
-}  // namespace
-
-void verifyCheckpointFile(const std::string& path) { verifyBytes(readFile(path), path); }
+void verifyCheckpointFile(const std::string& path) { verifyCheckpointBytes(readFile(path), path); }
 
 void loadCheckpoint(TrainSession& s, const std::string& path) {
-  std::string bytes = readFile(path);
-  verifyBytes(bytes, path);
-  Reader r{bytes, path, 8};
-  const uint32_t version = r.value<uint32_t>();
-  if (version != 1 && version != kVersion) fail("checkpoint " + path + " has an unsupported version");
-  if (r.section() != waterModelName(s.config.model)) fail("checkpoint " + path + " was written by a different water model");
-  int step = r.value<int32_t>();
-  double seconds = r.value<double>();
-  std::istringstream rng(r.section());
+  CheckpointShape shape;
+  shape.model = waterModelName(s.config.model);
+  shape.trainViews = s.dataset.split("train").size();
+  shape.adamGroups = s.gaussianAdam.groups.size();
+  shape.heightCount = s.height ? s.height->parameterCount : 0;
+  CheckpointContents c = decodeCheckpoint(readFile(path), path, shape);
+  std::istringstream rng(c.rng);
   std::mt19937 restored;
   rng >> restored;
-  if (rng.fail()) fail("checkpoint " + path + ": unreadable RNG state");
-  std::string order = r.section();
-  std::vector<uint32_t> viewOrder(order.size() / 4);
-  if (!order.empty()) std::memcpy(viewOrder.data(), order.data(), viewOrder.size() * 4);
-  uint32_t cursor = r.value<uint32_t>();
-  size_t trainViews = s.dataset.split("train").size();
-  for (uint32_t v : viewOrder)
-    if (v >= trainViews) fail("checkpoint " + path + " does not match the dataset's training views");
-  uint64_t count = r.value<uint64_t>();
-  GaussianSet set;
-  set.params = r.vec<float>(count * kGaussianFloats, "the Gaussian table");
-  validateGaussians(set, "the checkpoint");
-  std::vector<float> m = r.vec<float>(count * kGaussianFloats, "the Gaussian Adam moments");
-  std::vector<float> v = r.vec<float>(count * kGaussianFloats, "the Gaussian Adam moments");
-  std::vector<int> groupSteps;
-  for (size_t g = 0; g < s.gaussianAdam.groups.size(); g++) groupSteps.push_back(r.value<int32_t>());
-  std::vector<float> densifyStats = r.vec<float>(count * 2, "the densification statistics");
-  uint64_t heightCount = r.value<uint64_t>();
-  if (heightCount != (s.height ? s.height->parameterCount : 0)) fail("checkpoint " + path + " has a different height-field size");
-  std::vector<float> weights, hm, hv, hg(heightCount, 0.0f);
-  int heightStep = 0;
-  if (s.height) {
-    weights = r.vec<float>(heightCount, "the height-field weights");
-    hm = r.vec<float>(heightCount, "the height-field Adam moments");
-    hv = r.vec<float>(heightCount, "the height-field Adam moments");
-    heightStep = r.value<int32_t>();
-    if (version >= 2) hg = r.vec<float>(heightCount, "the height-field gradient sum");
-  }
-  double planeHeight = r.value<double>(), planeM = r.value<double>(), planeV = r.value<double>();
-  int planeStep = r.value<int32_t>();
-  double planeGrad = version >= 2 ? r.value<double>() : 0.0;
-  if (r.at + 4 != bytes.size()) fail("checkpoint " + path + " has trailing bytes");
 
   // Everything read and checked: install it.
   Context& ctx = *s.ctx;
-  s.step = step;
-  s.trainingSeconds = seconds;
+  s.step = c.step;
+  s.trainingSeconds = c.trainingSeconds;
   s.rng = restored;
-  s.viewOrder = viewOrder;
-  s.viewCursor = cursor;
-  s.gaussians = std::move(set);
-  s.gaussianAdam.m = std::move(m);
-  s.gaussianAdam.v = std::move(v);
-  for (size_t g = 0; g < groupSteps.size(); g++) s.gaussianAdam.groups[g].step = groupSteps[g];
+  s.viewOrder = c.viewOrder;
+  s.viewCursor = c.viewCursor;
+  s.gaussians.params = std::move(c.params);
+  s.gaussianAdam.m = std::move(c.adamM);
+  s.gaussianAdam.v = std::move(c.adamV);
+  for (size_t g = 0; g < c.groupSteps.size(); g++) s.gaussianAdam.groups[g].step = c.groupSteps[g];
   syncGaussians(s, true);
-  s.densifyStats = std::move(densifyStats);
+  s.densifyStats = std::move(c.densifyStats);
   if (s.height) {
-    uploadWeights(ctx, *s.height, weights);
+    uploadWeights(ctx, *s.height, c.heightWeights);
     s.height->config.encodingWindow = encodingWindowAfterStep(s.config, s.step, surfaceBatchSteps(s));
-    upload(ctx, s.heightAdam.m, hm.data(), hm.size() * 4);
-    upload(ctx, s.heightAdam.v, hv.data(), hv.size() * 4);
-    s.heightAdam.step = heightStep;
-    upload(ctx, s.heightGrad, hg.data(), hg.size() * 4);
+    upload(ctx, s.heightAdam.m, c.heightM.data(), c.heightM.size() * 4);
+    upload(ctx, s.heightAdam.v, c.heightV.data(), c.heightV.size() * 4);
+    s.heightAdam.step = c.heightStep;
+    upload(ctx, s.heightGrad, c.heightGrad.data(), c.heightGrad.size() * 4);
   }
-  s.planeHeight = planeHeight;
-  s.planeM = planeM;
-  s.planeV = planeV;
-  s.planeStep = planeStep;
-  s.planeGrad = planeGrad;
-  s.plane.waves.base = float(planeHeight);
+  s.planeHeight = c.planeHeight;
+  s.planeM = c.planeM;
+  s.planeV = c.planeV;
+  s.planeStep = c.planeStep;
+  s.planeGrad = c.planeGrad;
+  s.plane.waves.base = float(c.planeHeight);
   if (s.surface) {
     HeightSource src = currentHeightSource(s);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, src); });
