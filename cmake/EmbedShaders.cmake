@@ -1,5 +1,7 @@
 # Compiles GLSL compute shaders with glslangValidator (Vulkan 1.2 SPIR-V) and links the binary
 # SPIR-V into a static library with a name -> code table, so binaries never read shader files.
+# A shader with a line "// refrax-variant: SUFFIX MACRO" is compiled once more with -DMACRO as
+# NAME_SUFFIX (the compute trace backend's variants: "// refrax-variant: compute REFRAX_COMPUTE_TRACE").
 # The words go in through the assembler's .incbin: compiling tens of megabytes of generated
 # kernels as C array initialisers took minutes; assembling a reference to them takes none.
 function(refrax_embed_shaders target)
@@ -9,17 +11,38 @@ function(refrax_embed_shaders target)
   set(asm "")
   set(decls "")
   set(entries "")
+  # name;source;extra glslang options, one entry per SPIR-V module
+  set(modules "")
   foreach(src ${ARGN})
     get_filename_component(name ${src} NAME_WE)
+    list(APPEND modules "${name}|${src}|")
+    file(STRINGS ${src} variants REGEX "^// refrax-variant: ")
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${src})  # a new variant line reconfigures
+    foreach(line ${variants})
+      string(REGEX REPLACE "^// refrax-variant: ([A-Za-z0-9_]+) ([A-Za-z0-9_]+).*$" "\\1;\\2" parts "${line}")
+      list(GET parts 0 suffix)
+      list(GET parts 1 macro)
+      list(APPEND modules "${name}_${suffix}|${src}|-D${macro}")
+    endforeach()
+  endforeach()
+  foreach(module ${modules})
+    string(REPLACE "|" ";" fields "${module}")
+    list(GET fields 0 name)
+    list(GET fields 1 src)
+    list(LENGTH fields nfields)
+    set(define "")
+    if(nfields GREATER 2)
+      list(GET fields 2 define)
+    endif()
     set(sym "refrax_spv_${name}")
     set(out ${gen_dir}/${name}.spv)
     add_custom_command(
       OUTPUT ${out}
-      COMMAND ${GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2 -I${CMAKE_SOURCE_DIR}/shaders/include
+      COMMAND ${GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2 -I${CMAKE_SOURCE_DIR}/shaders/include ${define}
               --depfile ${out}.d -o ${out} ${src}
       DEPENDS ${src}
       DEPFILE ${out}.d
-      COMMENT "glslang ${name}.comp"
+      COMMENT "glslang ${name}"
       VERBATIM)
     list(APPEND spvs ${out})
     string(APPEND asm "  .balign 4\n  .global ${sym}\n${sym}:\n  .incbin \"${out}\"\n  .global ${sym}_end\n${sym}_end:\n")

@@ -30,8 +30,8 @@ static_assert(sizeof(Box) == 6 * sizeof(float), "gaussianProxyBox writes a Box a
 const ComputePipeline& forwardPipeline(GaussianTracer& t, ProxyKind kind) {
   ComputePipeline& p = t.forward[uint32_t(kind)];
   if (!p.pipeline)
-    p = createComputePipeline(*t.ctx, "gaussian_forward",
-                              {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+    p = createComputePipeline(*t.ctx, traceShaderName(*t.ctx, "gaussian_forward").c_str(),
+                              {sceneBindingType(*t.ctx), kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                               sizeof(TracePush), traceSpec(t.K, kind));
   return p;
 }
@@ -39,8 +39,8 @@ const ComputePipeline& forwardPipeline(GaussianTracer& t, ProxyKind kind) {
 const ComputePipeline& backwardPipeline(GaussianTracer& t, ProxyKind kind) {
   ComputePipeline& p = t.backward[uint32_t(kind)];
   if (!p.pipeline)
-    p = createComputePipeline(*t.ctx, t.casAtomics ? "gaussian_backward_cas" : "gaussian_backward",
-                              {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
+    p = createComputePipeline(*t.ctx, traceShaderName(*t.ctx, t.casAtomics ? "gaussian_backward_cas" : "gaussian_backward").c_str(),
+                              {sceneBindingType(*t.ctx), kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
                                kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                               sizeof(TracePush), traceSpec(t.K, kind));
   return p;
@@ -113,6 +113,14 @@ ProxyKind proxyKindFor(const std::string& choice, const DeviceCaps& caps) {
   return caps.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? ProxyKind::AabbBlas : ProxyKind::InstancedUnitBox;
 }
 
+std::string traceShaderName(const Context& ctx, const std::string& name) {
+  return ctx.trace == TraceBackend::Compute ? name + "_compute" : name;
+}
+
+VkDescriptorType sceneBindingType(const Context& ctx) { return ctx.trace == TraceBackend::Compute ? kStorageBuffer : kAccelStruct; }
+
+Binding sceneBinding(const GaussianProxies& p) { return p.bvh.leaves ? bind(p.bvh.nodes) : bind(p.tlas); }
+
 GaussianTracer createGaussianTracer(Context& ctx, uint32_t K, bool casAtomics) {
   if (K == 0 || K > 64) fail("k-buffer size " + std::to_string(K) + " is outside 1..64");
   GaussianTracer t;
@@ -137,6 +145,9 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
   if (host.count() != gaussians.count) fail("buildGaussianProxies: host and device Gaussian counts differ");
   if (gaussians.count > 0xFFFFFFu) fail("more than 16M Gaussians (instance custom indices have 24 bits)");
   GaussianProxies p;
+  // The compute backend has no acceleration structures: the proxies are boxes in a BVH of its own.
+  const bool compute = ctx.trace == TraceBackend::Compute;
+  if (compute) kind = ProxyKind::AabbBlas;
   p.kind = kind;
   p.count = gaussians.count;
   p.allowUpdate = allowUpdate;
@@ -153,7 +164,14 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
   p.sh = createBuffer(ctx, VkDeviceSize(p.count) * kShPackedBytes);
   p.spheres = createBuffer(ctx, VkDeviceSize(p.count) * 16);
   AccelOptions opts{allowUpdate, false};
-  if (kind == ProxyKind::AabbBlas) {
+  if (compute) {
+    // (no Gaussians: one empty box, which no ray meets)
+    std::vector<Box> empty(std::max<uint32_t>(p.count, 1), Box{INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+    p.boxes = createBufferFrom(ctx, empty);
+    p.instances = createBuffer(ctx, kInstanceBytes);  // placeholder binding
+    p.bvh = createBoxBvh(ctx, std::max<uint32_t>(p.count, 1));
+    if (!tracer.bvhRefit.pipeline) tracer.bvhRefit = createBvhRefitPipeline(ctx);
+  } else if (kind == ProxyKind::AabbBlas) {
     p.boxes = createBuffer(ctx, VkDeviceSize(p.count) * sizeof(Box), kAccelInput);
     p.instances = createBuffer(ctx, kInstanceBytes, kAccelInput);
     p.blas = createAabbBlas(ctx, p.boxes, p.count, opts);
@@ -187,6 +205,10 @@ void cmdUpdateGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, Gaussi
               &push,
               groupsFor(p.count, 64));
   cmdBarrier(cb);
+  if (p.bvh.leaves) {  // compute backend: the same tree topology, bounds from the new boxes
+    cmdRefitBoxBvh(cb, tracer.bvhRefit, p.bvh, p.boxes);
+    return;
+  }
   if (p.kind == ProxyKind::AabbBlas) {
     if (refit) cmdRefit(cb, p.blas); else cmdBuild(cb, p.blas);
     cmdBarrier(cb);
@@ -205,7 +227,7 @@ void cmdTraceForward(VkCommandBuffer cb, GaussianTracer& tracer, const GaussianP
   TracePush push = tracePush(count, options);
   const Buffer& records = options.hitRecords ? options.hitRecords->buffer : tracer.noHitRecords;
   cmdDispatch(cb, forwardPipeline(tracer, proxies.kind),
-              {bind(proxies.tlas), bind(proxies.trace), bind(proxies.sh), bind(rays), bind(results), bind(records)}, &push,
+              {sceneBinding(proxies), bind(proxies.trace), bind(proxies.sh), bind(rays), bind(results), bind(records)}, &push,
               groupsFor(count, 64));
 }
 
@@ -217,7 +239,7 @@ void cmdTraceBackward(VkCommandBuffer cb, GaussianTracer& tracer, const Gaussian
   TracePush push = tracePush(count, options);
   const Buffer& records = options.hitRecords ? options.hitRecords->buffer : tracer.noHitRecords;
   cmdDispatch(cb, backwardPipeline(tracer, proxies.kind),
-              {bind(proxies.tlas), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results), bind(dLoss), bind(grads),
+              {sceneBinding(proxies), bind(proxies.trace), bind(gaussians.params), bind(rays), bind(results), bind(dLoss), bind(grads),
                bind(stats), bind(rayGrads), bind(records), bind(proxies.sh)},
               &push, groupsFor(count, 64));
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/gaussians.h"
+#include "engine/box_bvh.h"
 #include "engine/rays.h"
 #include "engine/vk_accel.h"
 #include "engine/vk_pipeline.h"
@@ -93,6 +94,7 @@ struct GaussianTracer {
   ComputePipeline backward[2];
   ComputePipeline tileCull;          // engine/tiled_trace.h
   ComputePipeline forwardTiled[2];
+  ComputePipeline bvhRefit;          // the compute trace backend's proxy BVH (engine/box_bvh.h)
   Buffer noHitRecords;  // bound where no hit records are written or read
 };
 // K: k-buffer size (specialization constant). casAtomics: force the fallback even where
@@ -113,8 +115,15 @@ struct GaussianProxies {
   Buffer unitBox;    // the one box [-1,1]^3 (instanced variant)
   AccelStruct blas;
   AccelStruct tlas;
+  BoxBvh bvh;        // the compute trace backend: the boxes' BVH instead of blas/tlas (AABB variant)
   bool allowUpdate = false;
 };
+// Binding 0 of the tracer's shaders: the TLAS, or the box BVH's nodes (compute backend).
+Binding sceneBinding(const GaussianProxies& proxies);
+// The tracer shader `name` for the context's trace backend ("_compute" variants), and binding
+// 0's type.
+std::string traceShaderName(const Context& ctx, const std::string& name);
+VkDescriptorType sceneBindingType(const Context& ctx);
 
 // The proxy box of one Gaussian (raw parameters) as gaussian_prepare.comp writes it, on the
 // host in double precision (used to choose the BVH order, and by benchmarks), as

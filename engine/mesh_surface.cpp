@@ -7,6 +7,7 @@
 #include "engine/error.h"
 #include "engine/grid_mesh.h"
 #include "engine/presort.h"
+#include "engine/triangle_bvh.h"
 #include "engine/vk_commands.h"
 #include "engine/vk_context.h"
 
@@ -58,22 +59,7 @@ void checkMesh(const SurfaceMesh& mesh) {
 // the input order at its middle, so a file's arbitrary order is replaced by a median split
 // of the triangles' boxes (engine/presort.h). The shader reads the triples by primitive
 // index from this same list, so the order is invisible outside.
-std::vector<uint32_t> triangleBuildOrder(const SurfaceMesh& mesh) {
-  std::vector<Box> boxes(mesh.triangleCount());
-  for (size_t k = 0; k < boxes.size(); k++) {
-    Box& b = boxes[k];
-    b = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
-    for (int c = 0; c < 3; c++) {
-      const float* p = &mesh.positions[3 * size_t(mesh.indices[3 * k + c])];
-      b.minX = std::min(b.minX, p[0]), b.minY = std::min(b.minY, p[1]), b.minZ = std::min(b.minZ, p[2]);
-      b.maxX = std::max(b.maxX, p[0]), b.maxY = std::max(b.maxY, p[1]), b.maxZ = std::max(b.maxZ, p[2]);
-    }
-  }
-  std::vector<uint32_t> order = medianSplitOrder(boxes), indices(mesh.indices.size());
-  for (size_t k = 0; k < order.size(); k++)
-    for (int c = 0; c < 3; c++) indices[3 * k + c] = mesh.indices[3 * size_t(order[k]) + c];
-  return indices;
-}
+std::vector<uint32_t> triangleBuildOrder(const SurfaceMesh& mesh) { return trianglesInSplitOrder(mesh.positions, mesh.indices); }
 
 }  // namespace
 
@@ -111,17 +97,25 @@ MeshSurface createMeshSurface(Context& ctx, const SurfaceMesh& mesh, const Heigh
   m.triangleCount = uint32_t(mesh.triangleCount());
   m.positions = createBufferFrom(ctx, mesh.positions, kAccelInput);
   m.normals = createBufferFrom(ctx, normals);
-  m.indices = createBufferFrom(ctx, triangleBuildOrder(mesh), kAccelInput);
-  m.blas = createTriangleBlas(ctx, m.positions, m.vertexCount, 12, m.indices, m.triangleCount);
-  m.top = createTopLevel(ctx, {makeInstance(m.blas, 0)});
-  submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    cmdBuild(cb, m.blas);
-    cmdBarrier(cb);
-    cmdBuild(cb, m.top.tlas);
-  });
+  const std::vector<uint32_t> ordered = triangleBuildOrder(mesh);
+  m.indices = createBufferFrom(ctx, ordered, kAccelInput);
   auto B = kStorageBuffer;
-  m.refract = createComputePipeline(ctx, "mesh_refract", {kAccelStruct, B, B, B, B, B, B}, sizeof(MeshRefractPush),
-                                    {{0, m.walkGrid ? 1u : 0u}});
+  if (ctx.trace == TraceBackend::Compute) {
+    // (a grid walks its cells: its tree is never read, but binding 0 needs a buffer)
+    m.bvh = createTriangleBvh(ctx, mesh.positions, m.walkGrid ? std::vector<uint32_t>(ordered.begin(), ordered.begin() + 3) : ordered);
+    m.refract = createComputePipeline(ctx, "mesh_refract_compute", {B, B, B, B, B, B, B}, sizeof(MeshRefractPush), {{0, m.walkGrid ? 1u : 0u}});
+  } else {
+    m.blas = createTriangleBlas(ctx, m.positions, m.vertexCount, 12, m.indices, m.triangleCount);
+    m.top = createTopLevel(ctx, {makeInstance(m.blas, 0)});
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cmdBuild(cb, m.blas);
+      cmdBarrier(cb);
+      cmdBuild(cb, m.top.tlas);
+    });
+    m.refract = createComputePipeline(ctx, "mesh_refract", {kAccelStruct, B, B, B, B, B, B}, sizeof(MeshRefractPush),
+                                      {{0, m.walkGrid ? 1u : 0u}});
+  }
+  m.built = true;
   return m;
 }
 
@@ -129,7 +123,7 @@ void cmdRefractThroughMesh(VkCommandBuffer cb, const MeshSurface& mesh, const Bu
                            const Buffer& refracted, const Buffer& flags) {
   if (count == 0) return;
   if (!(ior > 0.0f) || !std::isfinite(ior)) fail("surface mesh: the IOR must be a positive number");
-  if (!mesh.top.tlas.built) fail("surface mesh: not built (use createMeshSurface)");
+  if (!mesh.built) fail("surface mesh: not built (use createMeshSurface)");
   if (rays.size < VkDeviceSize(count) * sizeof(GpuRay) || refracted.size < VkDeviceSize(count) * sizeof(GpuRay) ||
       flags.size < VkDeviceSize(count) * 4)
     fail("surface mesh: the ray, refracted-ray or flag buffer is too small for " + std::to_string(count) + " rays");
@@ -137,7 +131,8 @@ void cmdRefractThroughMesh(VkCommandBuffer cb, const MeshSurface& mesh, const Bu
                        {mesh.zMin, mesh.zMax}};
   cmdBarrier(cb);
   cmdDispatch(cb, mesh.refract,
-              {bind(mesh.top.tlas), bind(rays), bind(mesh.positions), bind(mesh.normals), bind(mesh.indices), bind(refracted), bind(flags)},
+              {mesh.bvh.leaves ? bind(mesh.bvh.nodes) : bind(mesh.top.tlas), bind(rays), bind(mesh.positions), bind(mesh.normals),
+               bind(mesh.indices), bind(refracted), bind(flags)},
               &push, groupsFor(count, 64));
 }
 

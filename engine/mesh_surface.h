@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/box_bvh.h"
 #include "engine/height_source.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/rays.h"
@@ -32,6 +33,8 @@ struct MeshSurface {  // a triangle mesh on the device, traced with ray queries 
   Buffer positions, normals, indices;  // packed float3 per vertex (the BLAS input), unit float3 per vertex, uint32x3
   AccelStruct blas;
   TopLevel top;
+  BoxBvh bvh;  // the compute trace backend's triangle BVH (leaf k = triangle k), instead of blas/top
+  bool built = false;
   uint32_t vertexCount = 0, triangleCount = 0;
   bool walkGrid = false;  // a height grid traced by walking its cells (mesh_refract.comp kGrid), not the BVH
   HeightGridLayout grid;

@@ -1,6 +1,8 @@
 #include "engine/surface_preview.h"
 
+#include "engine/triangle_bvh.h"
 #include "engine/vk_commands.h"
+#include "engine/vk_context.h"
 
 namespace refrax {
 
@@ -8,6 +10,14 @@ SurfacePreview createSurfacePreview(Context& ctx, const std::vector<float>& vert
   SurfacePreview p;
   p.triangleCount = uint32_t(indices.size() / 3);
   p.vertices = createBufferFrom(ctx, vertices, kAccelInput);
+  if (ctx.trace == TraceBackend::Compute) {  // a triangle BVH of its own instead of BLAS/TLAS
+    std::vector<uint32_t> ordered = trianglesInSplitOrder(vertices, indices);
+    p.indices = createBufferFrom(ctx, ordered);
+    p.bvh = createTriangleBvh(ctx, vertices, ordered);
+    p.pipeline = createComputePipeline(ctx, "view_surface_compute", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
+                                       sizeof(GpuPinholeCamera) + 32);
+    return p;
+  }
   p.indices = createBufferFrom(ctx, indices, kAccelInput);
   p.blas = createTriangleBlas(ctx, p.vertices, uint32_t(vertices.size() / 3), 12, p.indices, p.triangleCount);
   p.top = createTopLevel(ctx, {makeInstance(p.blas, 0, nullptr, VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR)});
@@ -28,7 +38,9 @@ void cmdRenderSurfacePreview(VkCommandBuffer cb, const SurfacePreview& preview, 
     uint32_t size[4];
     float background[4];
   } push{toGpuCamera(camera, width, height), {width, height, uint32_t(mode), 0}, {background[0], background[1], background[2], 1}};
-  cmdDispatch(cb, preview.pipeline, {bind(preview.top.tlas), bind(preview.vertices), bind(preview.indices), bind(pixels)}, &push,
+  cmdDispatch(cb, preview.pipeline,
+              {preview.bvh.leaves ? bind(preview.bvh.nodes) : bind(preview.top.tlas), bind(preview.vertices), bind(preview.indices), bind(pixels)},
+              &push,
               groupsFor(width, 8), groupsFor(height, 8));
 }
 

@@ -3,6 +3,7 @@
 // by normal or with its wireframe: the viewer's surface view and `refrax preview`.
 #include <cstdint>
 
+#include "engine/box_bvh.h"
 #include "engine/fly_camera.h"
 #include "engine/grid_mesh.h"
 #include "engine/io/image_io.h"
@@ -16,6 +17,7 @@ struct SurfacePreview {
   Buffer vertices, indices;
   AccelStruct blas;
   TopLevel top;
+  BoxBvh bvh;  // the compute trace backend's triangle BVH, instead of blas/top
   ComputePipeline pipeline;
 };
 

@@ -27,8 +27,8 @@ const ComputePipeline& cullPipeline(GaussianTracer& t) {
 const ComputePipeline& tiledPipeline(GaussianTracer& t, ProxyKind kind) {
   ComputePipeline& p = t.forwardTiled[uint32_t(kind)];
   if (!p.pipeline)
-    p = createComputePipeline(*t.ctx, "gaussian_forward_tiled",
-                              {kAccelStruct, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
+    p = createComputePipeline(*t.ctx, traceShaderName(*t.ctx, "gaussian_forward_tiled").c_str(),
+                              {sceneBindingType(*t.ctx), kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer,
                                kStorageBuffer, kStorageBuffer},
                               sizeof(TracePush), traceSpec(t.K, kind));
   return p;
@@ -100,7 +100,7 @@ void cmdTraceForwardTiled(VkCommandBuffer cb, GaussianTracer& tracer, const Gaus
   push.tileCapacity = tiles.capacity;
   const Buffer& records = options.hitRecords ? options.hitRecords->buffer : tracer.noHitRecords;
   cmdDispatch(cb, tiledPipeline(tracer, proxies.kind),
-              {bind(proxies.tlas), bind(proxies.trace), bind(proxies.sh), bind(rays), bind(results), bind(records), bind(tiles.counts),
+              {sceneBinding(proxies), bind(proxies.trace), bind(proxies.sh), bind(rays), bind(results), bind(records), bind(tiles.counts),
                bind(tiles.candidates), bind(proxies.spheres)},
               &push, tiles.tilesX, tiles.tilesY);
 }

@@ -187,12 +187,14 @@ std::string describeAll(const std::vector<DeviceCaps>& all) {
 
 }  // namespace
 
-std::vector<std::string> DeviceCaps::missing() const {
+const char* traceBackendName(TraceBackend backend) { return backend == TraceBackend::RayQuery ? "rayquery" : "compute"; }
+
+std::vector<std::string> DeviceCaps::missing(TraceBackend backend) const {
   std::vector<std::string> m;
   if (apiVersion < VK_API_VERSION_1_2) m.push_back("Vulkan 1.2");
   if (!bufferDeviceAddress) m.push_back("bufferDeviceAddress");
-  if (!accelerationStructure) m.push_back("VK_KHR_acceleration_structure");
-  if (!rayQuery) m.push_back("VK_KHR_ray_query");
+  if (backend == TraceBackend::RayQuery && !accelerationStructure) m.push_back("VK_KHR_acceleration_structure");
+  if (backend == TraceBackend::RayQuery && !rayQuery) m.push_back("VK_KHR_ray_query");
   if (!pushDescriptor) m.push_back("VK_KHR_push_descriptor");
   return m;
 }
@@ -246,18 +248,36 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
     if (!all[chosen].qualifies())
       fail("device '" + all[chosen].name + "' cannot run Refrax; devices seen:" + describeAll(all));
   } else {
+    // The device most able: one with ray queries before one without, then by kind.
+    auto rank = [](const DeviceCaps& c) { return (c.canRun(TraceBackend::RayQuery) ? 10 : 0) + typeRank(c.type); };
     for (auto& c : all)
-      if (c.qualifies() && (chosen < 0 || typeRank(c.type) > typeRank(all[chosen].type))) chosen = int(c.index);
+      if (c.qualifies() && (chosen < 0 || rank(c) > rank(all[chosen]))) chosen = int(c.index);
     if (chosen < 0)
-      fail("no Vulkan device offers ray queries and the rest of what Refrax needs; devices seen:" + describeAll(all) +
+      fail("no Vulkan device offers what Refrax needs (Vulkan 1.2 compute with buffer device addresses and push "
+           "descriptors); devices seen:" + describeAll(all) +
            "\n  (on a CPU, install mesa-vulkan-drivers >= 24 from bookworm-backports for lavapipe)");
   }
   ctx->physical = pds[chosen];
   ctx->caps = all[chosen];
+  std::string trace = options.trace;
+  if (trace.empty() && std::getenv("REFRAX_TRACE")) trace = std::getenv("REFRAX_TRACE");
+  if (trace.empty()) trace = "auto";
+  if (trace == "auto") {
+    ctx->trace = ctx->caps.canRun(TraceBackend::RayQuery) ? TraceBackend::RayQuery : TraceBackend::Compute;
+  } else if (trace == "rayquery" || trace == "compute") {
+    ctx->trace = trace == "rayquery" ? TraceBackend::RayQuery : TraceBackend::Compute;
+    if (!ctx->caps.canRun(ctx->trace)) {
+      std::string lacks;
+      for (const std::string& m : ctx->caps.missing(ctx->trace)) lacks += (lacks.empty() ? "" : ", ") + m;
+      fail("device '" + ctx->caps.name + "' cannot run the " + trace + " trace backend (it lacks " + lacks + "); --trace compute or auto runs on it");
+    }
+  } else {
+    fail("the trace backend must be rayquery, compute or auto (--trace or REFRAX_TRACE), not '" + trace + "'");
+  }
 
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   ctx->accelProperties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
-  props.pNext = &ctx->accelProperties;
+  if (ctx->caps.accelerationStructure) props.pNext = &ctx->accelProperties;  // an unknown structure is invalid usage
   vkGetPhysicalDeviceProperties2(ctx->physical, &props);
   ctx->properties = props.properties;
   vkGetPhysicalDeviceMemoryProperties(ctx->physical, &ctx->memory);
@@ -277,8 +297,13 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
   ctx->queueFamily = uint32_t(family);
   if (!families[family].timestampValidBits) ctx->caps.timestamps = false;
 
-  std::vector<const char*> exts = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME,
-                                   VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  // The acceleration-structure extensions only for the ray-query backend: the compute backend
+  // runs as on a device without them (and validation reports any use of them).
+  const bool rayQueries = ctx->trace == TraceBackend::RayQuery;
+  std::vector<const char*> exts = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  if (rayQueries)
+    for (const char* e : {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME, VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME})
+      exts.push_back(e);
   if (ctx->caps.floatAtomicAdd || ctx->caps.sharedFloatAtomicAdd) exts.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
   for (const char* extra : options.extraDeviceExtensions) exts.push_back(extra);
 
@@ -293,6 +318,7 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
   as.accelerationStructure = VK_TRUE;
   if (ctx->caps.floatAtomicAdd || ctx->caps.sharedFloatAtomicAdd) rq.pNext = &af;
   VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &as};
+  if (!rayQueries) v12.pNext = (ctx->caps.floatAtomicAdd || ctx->caps.sharedFloatAtomicAdd) ? static_cast<void*>(&af) : nullptr;
   v12.bufferDeviceAddress = VK_TRUE;
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
   f2.features.shaderInt64 = VK_FALSE;
@@ -309,7 +335,10 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
   dci.enabledExtensionCount = uint32_t(exts.size());
   dci.ppEnabledExtensionNames = exts.data();
   REFRAX_VK(vkCreateDevice(ctx->physical, &dci, nullptr, &ctx->device));
-  volkLoadDevice(ctx->device);
+  // Device functions stay the loader's (volkLoadInstance loaded them through vkGetInstanceProcAddr),
+  // which dispatch on the device handle: volkLoadDevice would bind every later call to this
+  // device's driver entries, and a second context (another device, or the other trace
+  // backend without the acceleration-structure extension) would call through the wrong ones.
   vkGetDeviceQueue(ctx->device, ctx->queueFamily, 0, &ctx->queue);
 
   VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -325,8 +354,8 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
   REFRAX_VK(vkCreateFence(ctx->device, &fci, nullptr, &ctx->fence));
 
   if (options.verbose)
-    std::fprintf(stderr, "refrax: device [%u] %s (%s)%s\n", ctx->caps.index, ctx->caps.name.c_str(), ctx->caps.driver.c_str(),
-                 ctx->validation ? ", validation on" : "");
+    std::fprintf(stderr, "refrax: device [%u] %s (%s), %s trace%s\n", ctx->caps.index, ctx->caps.name.c_str(), ctx->caps.driver.c_str(),
+                 traceBackendName(ctx->trace), ctx->validation ? ", validation on" : "");
   return ctx;
 }
 

@@ -14,6 +14,14 @@
 
 namespace refrax {
 
+// How rays find the water and the Gaussians' proxies (issue: every Vulkan GPU).
+//   RayQuery: VK_KHR_ray_query against acceleration structures (the driver's BVH);
+//   Compute:  plain compute shaders: a walk over the water's grid cells and a software BVH of
+//             the proxies' boxes (engine/box_bvh.h), for devices without ray queries (GTX-class
+//             and data-centre GPUs, older and mobile GPUs). Both report the same candidates.
+enum class TraceBackend { RayQuery, Compute };
+const char* traceBackendName(TraceBackend backend);
+
 struct DeviceCaps {
   uint32_t index = 0;
   std::string name;
@@ -31,14 +39,21 @@ struct DeviceCaps {
   bool separateDeviceMemory = false;  // a device-local heap the host cannot map (discrete GPU)
   uint32_t subgroupSize = 0;
 
-  // What this device lacks of Refrax's requirements, empty when it qualifies.
-  std::vector<std::string> missing() const;
+  // What this device lacks for a backend (empty: it can run that backend).
+  std::vector<std::string> missing(TraceBackend backend) const;
+  // What it lacks for either backend (empty: Refrax runs, on the compute backend at least).
+  std::vector<std::string> missing() const { return missing(TraceBackend::Compute); }
   bool qualifies() const { return missing().empty(); }
+  bool canRun(TraceBackend backend) const { return missing(backend).empty(); }
   std::string typeName() const;
 };
 
+
 struct ContextOptions {
   std::string device;       // name substring or index; empty: REFRAX_DEVICE, else the best device
+  // "rayquery", "compute" or "auto" (ray queries where the device has them); empty:
+  // REFRAX_TRACE, else auto.
+  std::string trace;
   bool validation = false;  // also switched on by REFRAX_VALIDATION=1
   bool verbose = false;     // print the chosen device
   std::vector<const char*> extraDeviceExtensions;    // e.g. VK_KHR_swapchain for the viewer
@@ -58,6 +73,7 @@ struct Context {
   VkCommandBuffer commandBuffer = VK_NULL_HANDLE;  // reused by submitAndWait
   VkFence fence = VK_NULL_HANDLE;
   DeviceCaps caps;
+  TraceBackend trace = TraceBackend::RayQuery;  // the backend this context runs (its extensions are enabled for it)
   VkPhysicalDeviceProperties properties{};
   VkPhysicalDeviceMemoryProperties memory{};
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelProperties{};

@@ -95,8 +95,13 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   ws.vertices = createBufferFrom(ctx, mesh.vertices, kAccelInput);
   ws.indices = createBufferFrom(ctx, mesh.indices, kAccelInput);
   ws.cellOrder = createBufferFrom(ctx, mesh.cellOrder);
-  ws.blas = createTriangleBlas(ctx, ws.vertices, mesh.vertexCount(), 12, ws.indices, mesh.triangleCount(), {true});
-  ws.top = createTopLevel(ctx, {makeInstance(ws.blas, 0)}, {true});
+  const bool compute = ctx.trace == TraceBackend::Compute;
+  if (compute) {
+    ws.heightRange = createBuffer(ctx, 8);
+  } else {
+    ws.blas = createTriangleBlas(ctx, ws.vertices, mesh.vertexCount(), 12, ws.indices, mesh.triangleCount(), {true});
+    ws.top = createTopLevel(ctx, {makeInstance(ws.blas, 0)}, {true});
+  }
 
   ws.latticeStride = (ws.cellsX << K) + 3;
   ws.latticePoints = uint64_t(ws.latticeStride) * uint64_t((ws.cellsY << K) + 3);
@@ -124,7 +129,12 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   auto B = kStorageBuffer;
   p.gridPoints = createComputePipeline(ctx, "surface_grid_points", {B}, push);
   p.gridVertices = createComputePipeline(ctx, "surface_grid_vertices", {B, B}, push);
-  p.globalTrace = createComputePipeline(ctx, "surface_global_trace", {kAccelStruct, B, B, B, B}, push);
+  if (compute) {
+    p.globalTrace = createComputePipeline(ctx, "surface_global_trace_compute", {B, B, B, B, B, B}, push);
+    p.heightRange = createComputePipeline(ctx, "surface_height_range", {B, B}, 4);
+  } else {
+    p.globalTrace = createComputePipeline(ctx, "surface_global_trace", {kAccelStruct, B, B, B, B}, push);
+  }
   p.requestPoints = createComputePipeline(ctx, "surface_request_points", {B, B, B, B}, push);
   p.subdivide = createComputePipeline(ctx, "surface_subdivide", {B, B, B, B, B, B}, push);
   p.refract = createComputePipeline(ctx, "surface_refract", {B, B, B, B, B, B, B, B}, push);
@@ -170,12 +180,20 @@ void cmdUpdateSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& 
   uint32_t vertexCount = (ws.cellsX + 1) * (ws.cellsY + 1);
   cmdDispatch(cb, ws.pipelines.gridVertices, {bind(ws.gridHeights), bind(ws.vertices)}, &pc, groupsFor(vertexCount, 64));
   cmdBarrier(cb);
-  if (ws.blas.built) cmdRefit(cb, ws.blas);
-  else cmdBuild(cb, ws.blas);
-  cmdBarrier(cb);
-  if (ws.top.tlas.built) cmdRefit(cb, ws.top.tlas);
-  else cmdBuild(cb, ws.top.tlas);
-  cmdBarrier(cb);
+  if (ws.heightRange) {  // compute backend: the walk's height slab instead of a BVH
+    const uint32_t range[2] = {0xFFFFFFFFu, 0u};
+    vkCmdUpdateBuffer(cb, ws.heightRange.buffer, 0, sizeof(range), range);
+    cmdBarrier(cb);
+    cmdDispatch(cb, ws.pipelines.heightRange, {bind(ws.vertices), bind(ws.heightRange)}, &vertexCount, groupsFor(vertexCount, 64));
+    cmdBarrier(cb);
+  } else {
+    if (ws.blas.built) cmdRefit(cb, ws.blas);
+    else cmdBuild(cb, ws.blas);
+    cmdBarrier(cb);
+    if (ws.top.tlas.built) cmdRefit(cb, ws.top.tlas);
+    else cmdBuild(cb, ws.top.tlas);
+    cmdBarrier(cb);
+  }
   profileStage(cb, *ws.ctx, "water update (heights, refit)");
   ws.updated = true;
 }
@@ -271,7 +289,11 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
     vkCmdFillBuffer(cb, ws.counters.buffer, 4, VK_WHOLE_SIZE, 0);  // this trace's counts; 0 is the cache's
     cmdBarrier(cb);
     stamp(cb, "clear");
-    cmdDispatch(cb, p.globalTrace, {bind(ws.top.tlas), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters)}, &pc, groups);
+    if (ws.heightRange)
+      cmdDispatch(cb, p.globalTrace, {bind(ws.vertices), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters), bind(ws.heightRange)},
+                  &pc, groups);
+    else
+      cmdDispatch(cb, p.globalTrace, {bind(ws.top.tlas), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters)}, &pc, groups);
     cmdBarrier(cb);
     stamp(cb, "global trace");
     if (K > 0) {

@@ -64,6 +64,7 @@ struct SurfaceCounters {
 
 struct SurfacePipelines {
   ComputePipeline gridPoints, gridVertices, globalTrace, requestPoints, subdivide, refract, backward, compact;
+  ComputePipeline heightRange;  // compute trace backend: the proxy mesh's height range for the grid walk
 };
 
 struct WaterSurface {
@@ -75,8 +76,9 @@ struct WaterSurface {
 
   Buffer gridPoints, gridHeights, gridGrad;  // coarse lattice incl. border: xy, H, dL/dH
   Buffer vertices, indices, cellOrder;       // the BLAS input (interior vertices), Morton cell order
-  AccelStruct blas;
+  AccelStruct blas;                          // ray-query backend; the compute backend walks the grid's cells instead
   TopLevel top;
+  Buffer heightRange;                        // compute backend: the vertices' lowest and highest z (ordered uints)
 
   // Lattice points beyond the coarse grid: latticeIndex (one uint per point of the bordered
   // finest lattice) gives each requested point its index into points/pointHeights/pointGrad.

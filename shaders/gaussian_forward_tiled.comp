@@ -1,4 +1,5 @@
 #version 460
+// refrax-variant: compute REFRAX_COMPUTE_TRACE
 // Gaussian ray tracer forward over an image's rays in 8x8 tiles (engine/tiled_trace.h), stage
 // 2 after tile_cull.comp: each ray collects its k-buffer hits from its tile's candidate list
 // instead of traversing the BVH. Every ray of a tile loops over the same list, so the lanes of
@@ -6,14 +7,16 @@
 // are those of gaussian_forward.comp: the list holds every Gaussian whose cut-off ellipsoid
 // any ray of the tile can reach, and each is tested as the ray query's candidates are. A tile
 // whose list overflowed its capacity traverses the BVH as gaussian_forward.comp does.
-#extension GL_EXT_ray_query : require
 #extension GL_GOOGLE_include_directive : require
+#ifndef REFRAX_COMPUTE_TRACE
+#extension GL_EXT_ray_query : require
+#endif
 #include "rays.glsl"
 #include "gaussian_trace_types.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const int K = 16;
 layout(constant_id = 1) const bool kInstanced = false;
-layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
+#include "trace_scene.glsl"
 layout(std430, set = 0, binding = 1) restrict readonly buffer Trace { TraceGaussian tg[]; };
 layout(std430, set = 0, binding = 2) restrict readonly buffer ShPacked { vec4 shPacked[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Rays { Ray rays[]; };

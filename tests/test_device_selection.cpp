@@ -57,3 +57,27 @@ TEST_CASE("refrax selftest passes with validation on") {
   CHECK(r.output.find("validation messages: 0") != std::string::npos);
   CHECK(r.output.find("selftest passed") != std::string::npos);
 }
+
+TEST_CASE("the trace backend is chosen by --trace or REFRAX_TRACE, a bad name is one clear error, and devices lists both") {
+  ContextOptions o;
+  o.trace = "compute";
+  auto compute = createContext(o);
+  CHECK(compute->trace == TraceBackend::Compute);
+  o.trace = "auto";
+  CHECK(createContext(o)->trace == TraceBackend::RayQuery);  // lavapipe offers ray queries
+  o.trace = "raytracing";
+  CHECK_THROWS_WITH_AS(createContext(o), doctest::Contains("must be rayquery, compute or auto"), Error);
+  auto r = test::runCli("devices");
+  INFO(r.output);
+  CHECK(r.output.find("trace rayquery yes (auto's choice)") != std::string::npos);
+  CHECK(r.output.find("trace compute  yes") != std::string::npos);
+  auto s = test::runCli("selftest --validation --trace compute");
+  INFO(s.output);
+  CHECK(s.exitCode == 0);
+  CHECK(s.output.find("selftest passed") != std::string::npos);
+  CHECK(s.output.find("(compute trace)") != std::string::npos);
+  CHECK(s.output.find("validation messages: 0") != std::string::npos);
+  auto bad = test::runCli("selftest --trace optix");
+  CHECK(bad.exitCode == 1);
+  CHECK(bad.output.find("the trace backend must be rayquery, compute or auto") != std::string::npos);
+}

@@ -44,7 +44,9 @@ GpuTest::~GpuTest() {
 }
 
 CliResult runCli(const std::string& arguments) {
-  std::string cmd = std::string(REFRAX_CLI) + " " + arguments + " 2>&1";
+  // REFRAX_CLI: a refrax binary elsewhere (a build copied to another machine, scripts/gpu-check.sh)
+  const char* cli = std::getenv("REFRAX_CLI");
+  std::string cmd = std::string(cli ? cli : REFRAX_CLI) + " " + arguments + " 2>&1";
   CliResult r{-1, ""};
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -81,6 +83,9 @@ REGISTER_LISTENER("case-counter", 1, CaseCounter);
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Every case, and every CLI it runs, with the validation layer on (CTest sets it too; a
+  // direct run of this binary gets the same).
+  setenv("REFRAX_VALIDATION", "1", 0);
   doctest::Context runner;
   runner.applyCommandLine(argc, argv);
   int result = runner.run();

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <random>
 #include <tiny_gltf.h>
@@ -403,7 +404,8 @@ TEST_CASE("synth: masks mark the pixels whose rays meet the water domain") {
 
 TEST_CASE("synth: a cancelled generation leaves neither the output folder nor a temporary one") {
   TempDir dir;
-  SynthPreset preset = makeSynthPreset("toys-topdown", SynthSize::Tiny, 1, std::string(REFRAX_SOURCE_DIR) + "/assets/textures");
+  const char* source = std::getenv("REFRAX_SOURCE_DIR");  // a copied build's assets (scripts/gpu-check.sh --bundle)
+  SynthPreset preset = makeSynthPreset("toys-topdown", SynthSize::Tiny, 1, std::string(source ? source : REFRAX_SOURCE_DIR) + "/assets/textures");
   std::atomic<bool> cancel{true};
   SynthWriteOptions o;
   o.cancel = &cancel;

@@ -62,6 +62,8 @@ long Args::getIntIn(const std::string& name, long fallback, long lo, long hi) co
 
 std::vector<Option> deviceOptions() {
   return {{"device", "NAME|INDEX", "Vulkan device to use (also REFRAX_DEVICE); default: the best qualifying one", ""},
+          {"trace", "KIND", "how rays find the water and the Gaussians: rayquery (VK_KHR_ray_query), compute (compute shaders only, "
+                            "any Vulkan 1.2 GPU) or auto (ray queries where the device has them; also REFRAX_TRACE)", "auto"},
           {"validation", "", "enable the Khronos validation layer (also REFRAX_VALIDATION=1)", ""}};
 }
 
@@ -87,6 +89,7 @@ std::unique_ptr<OutputFolder> createOutputFolder(const std::string& path, const 
 std::unique_ptr<Context> openContext(const Args& args, bool verbose) {
   ContextOptions o;
   o.device = args.get("device");
+  o.trace = args.get("trace");
   o.validation = args.has("validation");
   o.verbose = verbose;
   return createContext(o);

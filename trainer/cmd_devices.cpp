@@ -28,6 +28,13 @@ int runDevices(const cli::Args&) {
     if (missing.empty()) {
       std::printf("    qualifies for Refrax\n");
       any = true;
+      // the trace backends it can run (--trace, REFRAX_TRACE), and why not
+      for (TraceBackend b : {TraceBackend::RayQuery, TraceBackend::Compute}) {
+        auto lacks = d.missing(b);
+        std::printf("    trace %-8s %s", traceBackendName(b), lacks.empty() ? "yes" : "no: lacks");
+        for (size_t i = 0; i < lacks.size(); i++) std::printf("%s %s", i ? "," : "", lacks[i].c_str());
+        std::printf("%s\n", lacks.empty() && (b == TraceBackend::RayQuery || !d.canRun(TraceBackend::RayQuery)) ? " (auto's choice)" : "");
+      }
     } else {
       std::printf("    cannot run Refrax: lacks");
       for (size_t i = 0; i < missing.size(); i++) std::printf("%s %s", i ? "," : "", missing[i].c_str());

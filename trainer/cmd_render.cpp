@@ -3,6 +3,7 @@
 // triangle mesh from a glTF file.
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -63,6 +64,7 @@ int runRender(const cli::Args& args) {
   if (fs::exists(out, ec) && !(fs::is_directory(out, ec) && fs::is_empty(out, ec)))
     fail(out + " already exists and is not empty (render into a new folder, or remove it first)");
   std::string water = args.get("water", "keep");
+  const long benchmark = args.getIntIn("benchmark", 0, 0, 100000);
   TrainConfig config = readRunConfig(run);
   WaterView mode = water == "keep" ? WaterView::Keep : water == "remove" ? WaterView::Remove : WaterView::Swap;
   std::optional<AnalyticWaves> waves;
@@ -98,10 +100,22 @@ int runRender(const cli::Args& args) {
   std::optional<MeshSurface> swapMesh;
   if (mesh) swapMesh.emplace(createMeshSurface(*ctx, *mesh));
   folder->keep();
+  const SwapSurface swapSurface{swap ? &*swap : nullptr, swapMesh ? &*swapMesh : nullptr};
   for (const auto& [name, cam] : cameras) {
-    RenderedView r = renderView(*session, cam, mode, SwapSurface{swap ? &*swap : nullptr, swapMesh ? &*swapMesh : nullptr});
+    RenderedView r = renderView(*session, cam, mode, swapSurface);
     writePng((fs::path(out) / name).string(), r.image);
     std::printf("wrote %s\n", (fs::path(out) / name).string().c_str());
+  }
+  if (benchmark > 0) {
+    // Every view again, `benchmark` times, after the renders above built the pipelines: the
+    // frame time of a headless render (camera rays, water, Gaussians, download) on this device.
+    auto t0 = std::chrono::steady_clock::now();
+    for (long k = 0; k < benchmark; k++)
+      for (const auto& [name, cam] : cameras) renderView(*session, cam, mode, swapSurface);
+    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / double(benchmark * cameras.size());
+    std::printf("benchmark: %s, %dx%d, water %s, %zu views x %ld: %.2f ms per frame (%.1f FPS), %s trace\n", ctx->caps.name.c_str(),
+                cameras.front().second.width, cameras.front().second.height, water.c_str(), cameras.size(), benchmark, ms, 1000.0 / ms,
+                traceBackendName(ctx->trace));
   }
   return 0;
 }
@@ -116,7 +130,8 @@ std::vector<cli::Option> renderOptions() {
                                 {"water", "MODE",
                                  "keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction], or PATH.gltf / PATH.glb: "
                                  "any triangle mesh (glTF axes, +Y up) refracting the camera rays in the water's place",
-                                 "keep"}};
+                                 "keep"},
+                                {"benchmark", "N", "after writing the images, render every view N more times and print the mean frame time", "0"}};
   for (auto& d : cli::deviceOptions()) o.push_back(d);
   return o;
 }

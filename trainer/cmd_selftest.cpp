@@ -24,17 +24,9 @@ int runSelftest(const cli::Args& args) {
 
   // 1. A rippled triangle surface.
   GridMesh mesh = makeGridMesh(24, 24, -1, -1, 1, 1, [](float x, float y) { return 0.05f * std::sin(6 * x) * std::cos(4 * y); });
-  Buffer vb = createBufferFrom(*ctx, mesh.vertices, kAccelInput);
-  Buffer ib = createBufferFrom(*ctx, mesh.indices, kAccelInput);
-  AccelStruct blas = createTriangleBlas(*ctx, vb, mesh.vertexCount(), 12, ib, mesh.triangleCount());
-  TopLevel top = createTopLevel(*ctx, {makeInstance(blas, 0)});
-  submitAndWait(*ctx, [&](VkCommandBuffer cb) {
-    cmdBuild(cb, blas);
-    cmdBarrier(cb);
-    cmdBuild(cb, top.tlas);
-  });
+  TraceScene surface = buildTriangleScene(*ctx, mesh.vertices, mesh.indices);
   auto rays = ref::randomRays(rng, 2000, {{-1.5f, -1.5f, 1.0f}, {1.5f, 1.5f, 2.0f}, {-1.2f, -1.2f, -0.1f}, {1.2f, 1.2f, 0.1f}});
-  auto hits = traceClosestTriangles(*ctx, pipelines, top.tlas, rays);
+  auto hits = traceClosestTriangles(*ctx, pipelines, surface, rays);
   auto tri = ref::compareTriangleHits(mesh.vertices, mesh.indices, rays, hits);
   bool triOk = tri.ok(1e-5);
   std::printf("triangles: %zu rays, %zu hits (cpu %zu), worst t err %.2e, barycentric err %.2e (as distance %.2e): %s\n",
@@ -49,16 +41,9 @@ int runSelftest(const cli::Args& args) {
     b = {c[0] - h, c[1] - h, c[2] - h, c[0] + h, c[1] + h, c[2] + h};
   }
   boxes = permuted(boxes, medianSplitOrder(boxes));
-  Buffer bb = createBufferFrom(*ctx, boxes, kAccelInput);
-  AccelStruct boxBlas = createAabbBlas(*ctx, bb, uint32_t(boxes.size()));
-  TopLevel boxTop = createTopLevel(*ctx, {makeInstance(boxBlas, 0)});
-  submitAndWait(*ctx, [&](VkCommandBuffer cb) {
-    cmdBuild(cb, boxBlas);
-    cmdBarrier(cb);
-    cmdBuild(cb, boxTop.tlas);
-  });
+  TraceScene boxScene = buildBoxScene(*ctx, boxes);
   auto boxRays = ref::randomRays(rng, 1000, {{-1.5f, -1.5f, 1.0f}, {1.5f, 1.5f, 2.0f}, {-1, -1, -1}, {1, 1, 0}});
-  auto cand = collectCandidates(*ctx, pipelines, boxTop.tlas, boxRays, 256);
+  auto cand = collectCandidates(*ctx, pipelines, boxScene, boxRays, 256);
   auto rep = ref::compareCandidates(boxes, boxRays, cand.counts, cand.candidates, cand.capacity);
   bool boxOk = rep.missingPairs == 0 && rep.overflowRays == 0;
   std::printf("boxes: %zu rays, %.1f candidates per ray, %zu overlaps expected, %zu missing: %s\n", rep.rays, rep.meanCandidates,
@@ -68,7 +53,7 @@ int runSelftest(const cli::Args& args) {
   int messages = ctx->validationMessageCount.load();
   if (ctx->validation) std::printf("validation messages: %d\n", messages);
   ok &= messages == 0;
-  std::printf("selftest %s on %s\n", ok ? "passed" : "FAILED", ctx->caps.name.c_str());
+  std::printf("selftest %s on %s (%s trace)\n", ok ? "passed" : "FAILED", ctx->caps.name.c_str(), traceBackendName(ctx->trace));
   return ok ? 0 : 1;
 }
 

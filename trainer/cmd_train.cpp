@@ -106,7 +106,7 @@ TrainConfig configFromArgs(const cli::Args& a) {
 // What --resume accepts besides the run: how far it goes, how it reports, and the device.
 const std::set<std::string>& resumeOptions() {
   static const std::set<std::string> names = [] {
-    std::set<std::string> n = {"resume", "steps", "progress-every", "eval-every", "checkpoint-every", "profile"};
+    std::set<std::string> n = {"resume", "steps", "progress-every", "eval-every", "checkpoint-every", "profile", "time-limit"};
     for (const cli::Option& o : cli::deviceOptions()) n.insert(o.name);
     return n;
   }();
@@ -126,13 +126,17 @@ int runTrain(const cli::Args& args) {
   TrainProgress progress;
   progress.line = [](const std::string& text) { std::fprintf(stderr, "%s\n", text.c_str()); };
   progress.profile = args.has("profile");
+  if (args.has("time-limit")) {
+    progress.timeLimitSeconds = args.getDouble("time-limit", 0);
+    if (!(progress.timeLimitSeconds > 0 && progress.timeLimitSeconds < 1e9)) fail("--time-limit must be a number of seconds above 0");
+  }
   if (args.has("resume")) {
     if (!args.positional.empty() || args.has("output")) fail("--resume RUN takes no dataset and no -o: the run folder holds both");
     // The run's configuration is RUN/config.json; only how far and how it reports may change.
     for (const auto& [name, value] : args.values)
       if (!resumeOptions().count(name))
         fail("--" + name + " cannot change when a run resumes (RUN/config.json holds the run's configuration); with --resume only " +
-             "--steps, --progress-every, --eval-every, --checkpoint-every, --profile and the device options apply");
+             "--steps, --progress-every, --eval-every, --checkpoint-every, --profile, --time-limit and the device options apply");
     std::string run = args.get("resume");
     TrainConfig stored = readRunConfig(run);
     std::string ckpt = latestCheckpoint(run);
@@ -245,6 +249,7 @@ std::vector<cli::Option> trainOptions() {
       {"progress-every", "N", "progress line every N steps (stderr)", "50"},
       {"eval-every", "N", "test-split evaluation every N steps (0: at the end only)", "0"},
       {"checkpoint-every", "N", "checkpoint every N steps (0: at the end only)", "500"},
+      {"time-limit", "S", "stop after the step that reaches S seconds of training (the outputs are written as at the end; --resume continues)", ""},
       {"profile", "", "progress lines name the three costliest stages, and the end prints every stage's mean ms per step (always in metrics.json's \"profile\")", ""},
   };
   for (auto& d : datasetOptions()) o.push_back(d);

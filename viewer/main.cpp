@@ -162,6 +162,7 @@ int runViewer(const cli::Args& args) {
 
   ContextOptions co;
   co.device = args.get("device");
+  co.trace = args.get("trace");
   co.validation = args.has("validation");
   co.verbose = true;
   uint32_t nExt = 0;

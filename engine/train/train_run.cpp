@@ -124,7 +124,13 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
   auto say = [&](const std::string& text) {
     if (progress.line) progress.line(text);
   };
+  const double startSeconds = s.trainingSeconds;
   while (s.step < c.steps) {
+    if (progress.timeLimitSeconds > 0 && s.trainingSeconds - startSeconds >= progress.timeLimitSeconds) {
+      say("stopping at step " + std::to_string(s.step) + " of " + std::to_string(c.steps) + ": the time limit (" +
+          std::to_string(int(progress.timeLimitSeconds)) + " s of training) is reached; --resume continues");
+      break;
+    }
     auto stepStart = std::chrono::steady_clock::now();
     attachProfiler(*s.ctx, s.profiler);
     StepResult r = trainStep(s);

@@ -28,6 +28,7 @@ std::vector<double> sampleWaterHeights(TrainSession& session, uint32_t nx, uint3
 struct TrainProgress {
   std::function<void(const std::string&)> line;  // progress lines (stderr in the CLI)
   bool profile = false;  // progress lines end with the step's three costliest stages (--profile)
+  double timeLimitSeconds = 0;  // > 0: stop after the step that reaches this much training time (--time-limit)
 };
 
 // Trains from the session's current step to config.steps, writing checkpoints, then the

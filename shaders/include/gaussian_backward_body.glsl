@@ -9,8 +9,10 @@
 // Per hit, the chain runs through the kernel to mean, rotation, log scale, logit density,
 // through the SH to its coefficients, and to the ray's origin and direction (through alpha
 // and through the SH direction). Per-Gaussian sums are accumulated atomically.
-#extension GL_EXT_ray_query : require
 #extension GL_GOOGLE_include_directive : require
+#ifndef REFRAX_COMPUTE_TRACE
+#extension GL_EXT_ray_query : require
+#endif
 #ifndef REFRAX_CAS_ATOMICS
 #extension GL_EXT_shader_atomic_float : require
 #endif
@@ -19,7 +21,7 @@
 layout(local_size_x = 64) in;
 layout(constant_id = 0) const int K = 16;
 layout(constant_id = 1) const bool kInstanced = false;
-layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
+#include "trace_scene.glsl"
 layout(std430, set = 0, binding = 1) restrict readonly buffer Trace { TraceGaussian tg[]; };
 layout(std430, set = 0, binding = 2) restrict readonly buffer Params { float params[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Rays { Ray rays[]; };

@@ -1,7 +1,8 @@
 // The k-buffer traversal shared by the Gaussian forward and backward shaders (GLSL only).
 // Before including: the spec constants K (k-buffer size) and kInstanced (proxy variant),
-// the acceleration structure `scene`, the buffer `tg` of TraceGaussian and `shPacked` (SH
-// coefficients, kShVec4s vec4s per Gaussian id).
+// the acceleration structure `scene` (with REFRAX_COMPUTE_TRACE: the proxies' box BVH
+// `bvhNodes`, shaders/include/box_bvh.glsl), the buffer `tg` of TraceGaussian and `shPacked`
+// (SH coefficients, kShVec4s vec4s per Gaussian id).
 //
 // Each round collects the K closest accepted hits beyond the previous round's last hit,
 // ordered by (t, Gaussian id) so that equal t values cannot be skipped or repeated; the
@@ -49,7 +50,32 @@ bool insertCandidate(uint slot, vec3 o, vec3 d, float invLen2, float tcur, uint 
 }
 
 // Fills kt/ka/kid with up to K accepted hits after (tcur, idcur) and before tmax, sorted;
-// returns how many. The candidates are the proxies the ray query reports.
+// returns how many. The candidates are the proxies the ray query reports, or with the compute
+// trace backend (REFRAX_COMPUTE_TRACE) the leaves of the proxies' box BVH the ray meets: the
+// same candidates in another order, so the same hits.
+#ifdef REFRAX_COMPUTE_TRACE
+int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
+  int n = 0;
+  float invLen2 = 1.0 / dot(d, d);
+  float tq = max(0.0, tcur - 1e-5 * (1.0 + abs(tcur)));
+  float t1 = tmax;  // shrinks to the K-th hit once the buffer is full, as the ray query's
+  vec3 invD = vec3(1.0) / d;
+  uint stack[kBvhStack];
+  int sp = 0;
+  stack[sp++] = 0u;
+  while (sp > 0) {
+    BvhNode node = bvhNodes[stack[--sp]];
+    if (!bvhBoxHit(node.lo, node.hi, o, invD, tq, t1)) continue;
+    if (node.left != kBvhLeaf) {
+      stack[sp++] = node.right;  // the depth is at most 24 (16M proxies), the stack 64
+      stack[sp++] = node.left;
+      continue;
+    }
+    if (insertCandidate(node.right, o, d, invLen2, tcur, idcur, tmax, n) && n == K) t1 = kt[K - 1];
+  }
+  return n;
+}
+#else
 int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
   int n = 0;
   float invLen2 = 1.0 / dot(d, d);
@@ -66,6 +92,7 @@ int collectHits(vec3 o, vec3 d, float tcur, uint idcur, float tmax) {
   }
   return n;
 }
+#endif
 
 // SH basis along the ray, evaluated once per ray (it depends only on the direction).
 float shY[16];

@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# The GPU check: one command on a fresh machine with a Vulkan GPU driver, about 9 minutes on a
+# current GPU, everything written into one folder (docs/devices.md):
+#   1. refrax devices (which trace backends the GPU offers, and why not)
+#   2. refrax selftest on each backend it offers (rayquery, compute)
+#   3. the Gaussian tracer and water-surface benchmarks on each backend, the ray-query floor
+#   4. the short test suite on each backend
+#   5. a full-size preset trained at the reference schedule (15,000 whole-image steps, or as many
+#      as fit the budget) with its time per step and per-stage profile, then headless renders of
+#      its test view at 392 x 392 for the frame time
+# and summary.txt with the answers: device, backends, FPS at 392^2, ms per training step.
+#
+# Usage, from a repository clone (builds first when build/refrax is missing):
+#   scripts/gpu-check.sh [--out DIR] [--train-minutes M]      (default gpu-check-<date>, 3 minutes)
+# On a machine without compilers or Vulkan headers, make a bundle on a Debian bookworm machine
+# that has built Refrax, copy it over, and run the same script from it:
+#   scripts/gpu-check.sh --bundle DIR       # DIR: bin/ (refrax, refrax_tests), lib/ (libstb.so.0,
+#                                           # libstdc++.so.6, libgcc_s.so.1), assets/, gpu-check.sh
+#   DIR/gpu-check.sh [--out DIR2]           # on the GPU machine (needs glibc >= 2.36 and libvulkan1)
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+out=""
+train_minutes=3
+bundle=""
+while [ $# -gt 0 ]; do
+  case $1 in
+    --out) out=${2:?--out needs a folder}; shift ;;
+    --train-minutes) [[ ${2:-} =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "gpu-check: --train-minutes needs a number" >&2; exit 2; }; train_minutes=$2; shift ;;
+    --bundle) bundle=${2:?--bundle needs a folder}; shift ;;
+    -h|--help) sed -n '2,/^set -uo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "gpu-check: unknown option '$1' (--out DIR, --train-minutes M, --bundle DIR)" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+# ---- where the binaries are: a bundle (bin/ beside this script) or a repository build
+if [ -x "$here/bin/refrax" ]; then
+  root=$here
+  REFRAX=$root/bin/refrax
+  TESTS=$root/bin/refrax_tests
+  export LD_LIBRARY_PATH="$root/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+  export REFRAX_SOURCE_DIR=$root
+else
+  root=$(cd "$here/.." && pwd)
+  if [ ! -x "$root/build/refrax" ]; then
+    echo "gpu-check: no build yet: installing what is missing and building" >&2
+    (cd "$root" && { [ "${REFRAX_SKIP_INSTALL:-0}" = 1 ] || bash scripts/install-deps.sh; } &&
+      cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null && cmake --build build -j"$(nproc)") || exit 2
+  fi
+  REFRAX=$root/build/refrax
+  TESTS=$root/build/tests/refrax_tests
+fi
+export REFRAX_CLI=$REFRAX  # the test binary runs this refrax
+
+if [ -n "$bundle" ]; then
+  [ -x "$root/build/refrax" ] && [ -x "$root/build/tests/refrax_tests" ] || { echo "gpu-check: --bundle needs build/refrax and build/tests/refrax_tests (scripts/test.sh builds both)" >&2; exit 2; }
+  mkdir -p "$bundle/bin" "$bundle/lib" "$bundle/assets"
+  cp "$root/build/refrax" "$root/build/tests/refrax_tests" "$bundle/bin/"
+  cp -r "$root/assets/textures" "$bundle/assets/"
+  cp "$0" "$bundle/gpu-check.sh"
+  # the libraries a machine with a Vulkan driver may lack: Debian's stb and the bookworm C++ runtime
+  for lib in libstb.so.0 libstdc++.so.6 libgcc_s.so.1; do
+    path=$(ldd "$root/build/refrax" | awk -v l="$lib" '$1 == l { print $3 }')
+    [ -n "$path" ] && cp -L "$path" "$bundle/lib/"
+  done
+  echo "gpu-check: bundle in $bundle ($(du -sh "$bundle" | cut -f1)); on the GPU machine run $bundle/gpu-check.sh"
+  exit 0
+fi
+
+out=${out:-gpu-check-$(date -u +%Y%m%d-%H%M%S)}
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
+export MESA_SHADER_CACHE_DIR=${MESA_SHADER_CACHE_DIR:-$out/shader-cache}
+summary=$out/summary.txt
+note() { echo "$*" | tee -a "$summary"; }
+run() {  # seconds log-name command...: runs with a time limit, keeps the log, returns its status
+  local limit=$1 name=$2
+  shift 2
+  timeout "$limit" "$@" > "$out/$name.log" 2>&1
+  local rc=$?
+  [ $rc = 124 ] && echo "(stopped at the ${limit} s limit)" >> "$out/$name.log"
+  return $rc
+}
+start=$(date +%s)
+: > "$summary"
+note "Refrax GPU check, $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -n), $REFRAX"
+
+# 1. devices
+run 60 devices "$REFRAX" devices
+device=$(sed -n '1s/^\[[0-9]*\] //p' "$out/devices.log")
+note "device: ${device:-none found (see devices.log)}"
+backends=()
+grep -q "trace rayquery yes" "$out/devices.log" && backends+=(rayquery)
+grep -q "trace compute  yes" "$out/devices.log" && backends+=(compute)
+note "trace backends offered: ${backends[*]:-none}"
+note "ray queries offered: $(grep -q 'trace rayquery yes' "$out/devices.log" && echo yes || echo no)"
+[ ${#backends[@]} -gt 0 ] || { note "no device can run Refrax: see devices.log"; exit 1; }
+
+# 2. selftest per backend
+for b in "${backends[@]}"; do
+  if run 120 "selftest-$b" "$REFRAX" selftest --trace "$b"; then note "selftest $b: passed"; else note "selftest $b: FAILED (selftest-$b.log)"; fi
+done
+
+# 3. benchmarks per backend (the ray-query floor needs ray queries)
+for b in "${backends[@]}"; do
+  run 120 "bench-tracer-$b" "$REFRAX" bench tracer --trace "$b"
+  note "bench tracer $b: $(grep -m 3 -E 'Mrays|rays/s' "$out/bench-tracer-$b.log" | tr '\n' ';')"
+  run 120 "bench-surface-$b" "$REFRAX" bench surface --trace "$b"
+done
+[[ " ${backends[*]} " == *" rayquery "* ]] && run 120 bench-rays "$REFRAX" bench rays
+
+# 4. the short suite per backend (the viewer's cases need a display and refrax-view: left out)
+for b in "${backends[@]}"; do
+  if [ -x "$TESTS" ]; then
+    REFRAX_TRACE=$b run 300 "tests-$b" "$TESTS" --test-suite-exclude=long --test-case-exclude='refrax-view*'
+    note "tests $b: $(grep -E '^\[doctest\] test cases' "$out/tests-$b.log" | tail -n 1)"
+  fi
+done
+
+# 5. a full-size preset at the reference schedule, then its test view's frame time at 392^2
+data=$out/nerfrac-primary-sine
+run 600 synth "$REFRAX" synth nerfrac-primary-sine --size full -o "$data"
+limit=$(awk -v m="$train_minutes" 'BEGIN { printf "%d", m * 60 }')
+run $((limit + 300)) train "$REFRAX" train "$data" -o "$out/run" --steps 15000 --time-limit "$limit" --checkpoint-every 0 --progress-every 500 --profile
+if [ -f "$out/run/metrics.json" ]; then
+  # the profile line ("profile: N steps, X ms per step (median ...)") and the summary line (test psnr ...)
+  note "training (nerfrac-primary-sine, full size, whole 392^2 images, the reference settings): $(grep -m 1 '^profile:' "$out/train.log"); $(grep -m 1 '^test psnr' "$out/train.log")"
+  run 300 render "$REFRAX" render "$out/run" --split test -o "$out/renders" --benchmark 20
+  note "render: $(grep -m 1 '^benchmark:' "$out/render.log" || echo 'FAILED (render.log)')"
+else
+  note "training: FAILED (train.log)"
+fi
+note "gpu check took $(( $(date +%s) - start )) s; everything is in $out"
