@@ -16,8 +16,13 @@ function(refrax_embed_shaders target)
   foreach(src ${ARGN})
     get_filename_component(name ${src} NAME_WE)
     list(APPEND modules "${name}|${src}|")
-    file(STRINGS ${src} variants REGEX "^// refrax-variant: ")
-    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${src})  # a new variant line reconfigures
+    # Variant lines are read at configure time, so only from the hand-written shaders: the
+    # generated height-field kernels do not exist yet on a fresh configure and carry none.
+    set(variants "")
+    if(NOT src MATCHES "^${CMAKE_BINARY_DIR}/")
+      file(STRINGS ${src} variants REGEX "^// refrax-variant: ")
+      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${src})  # a new variant line reconfigures
+    endif()
     foreach(line ${variants})
       string(REGEX REPLACE "^// refrax-variant: ([A-Za-z0-9_]+) ([A-Za-z0-9_]+).*$" "\\1;\\2" parts "${line}")
       list(GET parts 0 suffix)
