@@ -1,6 +1,7 @@
 // File IO: atomic writes, PNG, .npy and JSON round trips and their errors on bad input.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <random>
@@ -10,6 +11,7 @@
 #include "engine/io/image_io.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
+#include <stb/stb_image_write.h>
 #include "tests/gpu_test.h"
 
 using namespace refrax;
@@ -59,6 +61,41 @@ TEST_CASE("PNG round trip keeps 8-bit values exactly") {
   writeTextAtomic(dir / "bad.png", "not a png at all");
   CHECK_THROWS_AS(readPng(dir / "bad.png"), Error);
   CHECK_THROWS_AS(readPng(dir / "missing.png"), Error);
+}
+
+TEST_CASE("images: JPEG reads, other formats and impossible headers are refused by name") {
+  TempDir dir;
+  // A JPEG of a flat grey square decodes close to its value.
+  std::vector<unsigned char> grey(16 * 16 * 3, 128);
+  std::string jpeg;
+  auto sink = [](void* ctx, void* data, int size) { static_cast<std::string*>(ctx)->append(static_cast<char*>(data), size); };
+  REQUIRE(stbi_write_jpg_to_func(sink, &jpeg, 16, 16, 3, grey.data(), 95));
+  writeFileAtomic(dir / "grey.jpg", jpeg.data(), jpeg.size());
+  Image img = readPng(dir / "grey.jpg");
+  CHECK(img.width == 16);
+  CHECK(img.channels == 3);
+  CHECK(std::abs(img.at(7, 7, 1) - 128.0f / 255.0f) < 3.0f / 255.0f);
+
+  // The TGA header the PNG fuzzer found (74 bytes): stb "decodes" it to a huge image of filler.
+  const unsigned char tga[] = {0x00, 0x00, 0x0a, 0xe1, 0xf3, 0x7f, 0x66, 0xca, 0x5c, 0x20, 0x20, 0x20, 0x20, 0x20, 0x20, 0x20};
+  std::string tgaBytes(reinterpret_cast<const char*>(tga), sizeof(tga));
+  tgaBytes += std::string(58, ' ');
+  writeFileAtomic(dir / "fuzz.png", tgaBytes.data(), tgaBytes.size());
+  CHECK_THROWS_WITH_AS(readPng(dir / "fuzz.png"), doctest::Contains("not a PNG or JPEG"), Error);
+
+  // A real PNG whose header is edited to claim 8000 x 8000 pixels (which stb
+  // itself would allocate, and fill from a few bytes).
+  Image small;
+  small.width = small.height = 4;
+  small.channels = 1;
+  small.pixels.assign(16, 0.5f);
+  writePng(dir / "small.png", small);
+  std::string png = readFile(dir / "small.png");
+  for (int field : {16, 20}) {  // IHDR width and height, big-endian
+    png[field] = 0, png[field + 1] = 0, png[field + 2] = 0x1f, png[field + 3] = 0x40;
+  }
+  writeFileAtomic(dir / "huge.png", png.data(), png.size());
+  CHECK_THROWS_WITH_AS(readPng(dir / "huge.png"), doctest::Contains("8000x8000"), Error);
 }
 
 TEST_CASE(".npy round trip and malformed files") {

@@ -11,11 +11,31 @@
 
 namespace refrax {
 
+namespace {
+
+bool startsWith(const std::string& bytes, const char* magic, size_t n) { return bytes.size() >= n && bytes.compare(0, n, magic, n) == 0; }
+
+}  // namespace
+
 Image readPng(const std::string& path) {
   std::string bytes = readFile(path);
+  // Only the formats cameras and datasets store. stb also decodes TGA, PSD, PIC, ...,
+  // whose headers can claim a huge image that 60 bytes of file then "fill" (found by fuzzing).
+  if (!startsWith(bytes, "\x89PNG\r\n\x1a\n", 8) && !startsWith(bytes, "\xff\xd8\xff", 3))
+    fail("cannot decode image " + path + ": not a PNG or JPEG file");
+  const auto* raw = reinterpret_cast<const unsigned char*>(bytes.data());
   int w = 0, h = 0, c = 0;
-  unsigned char* data =
-      stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()), int(bytes.size()), &w, &h, &c, 0);
+  if (!stbi_info_from_memory(raw, int(bytes.size()), &w, &h, &c))
+    fail("cannot decode image " + path + ": " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown format"));
+  // A truncated JPEG decodes to a full image of filler, so a header's size alone
+  // cannot be trusted: deflate cannot compress past 1032:1 and a flat JPEG block takes
+  // a few bits per 64 pixels, so no real file holds more than kMaxPixelsPerByte.
+  constexpr double kMaxPixelsPerByte = 4096, kMaxPixels = double(1 << 28);
+  const double pixels = double(w) * h;
+  if (pixels > kMaxPixels || pixels > kMaxPixelsPerByte * double(bytes.size()))
+    fail("cannot decode image " + path + ": its header claims " + std::to_string(w) + "x" + std::to_string(h) +
+         " pixels, more than a " + std::to_string(bytes.size()) + "-byte file can hold");
+  unsigned char* data = stbi_load_from_memory(raw, int(bytes.size()), &w, &h, &c, 0);
   if (!data) fail("cannot decode image " + path + ": " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown format"));
   Image img;
   img.width = w;

@@ -13,7 +13,9 @@ struct Image {
   float at(int x, int y, int c) const { return pixels[(size_t(y) * width + x) * channels + c]; }
 };
 
-Image readPng(const std::string& path);                 // any 8-bit PNG (or JPEG) stb reads; clear error otherwise
+// Any 8-bit PNG or JPEG stb reads; a clear error for other formats, corrupt files and
+// headers claiming more pixels than the file could hold.
+Image readPng(const std::string& path);
 void writePng(const std::string& path, const Image& image);  // values clamped to [0,1], rounded; written atomically
 // Whether `path` ends in .png (any case): where a user names the file, a PNG must not be
 // written under another image format's name.
