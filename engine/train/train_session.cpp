@@ -495,7 +495,7 @@ void requireSurfaceInScene(TrainSession& s, int t) {
   for (const View& v : s.dataset.split("train")) lowestCamera = std::min(lowestCamera, v.camera.position().z);
   const double bottom = s.config.boxMin[2];
   if (finite && low > bottom && high < lowestCamera) return;
-  char text[320];
+  char text[512];
   std::snprintf(text, sizeof text,
                 "the water surface diverged at step %d: the heights the training views see run from %.3g to %.3g m%s, outside the scene "
                 "between the Gaussians' box bottom (z = %.3g) and the lowest camera (z = %.3g); a lower --surface-lr (now %g) or "
