@@ -21,12 +21,16 @@ common="--steps $steps --gaussians 2000 --max-gaussians 4000 --patch 32 --densit
 refraction="--mlp-coarse-octaves 3 --octaves-open-until 100000000 --surface-lr 3e-3 --surface-freeze $((steps * 2 / 15)) --anchor-mean-height --level-prior 1000 --init-depth sweep --restart-gaussians $((steps / 3)),$((steps * 8 / 15)) --surface-batch views"
 counts=10000,100000
 [ $mode = smoke ] && counts=2000
+# One MLP and one proxy grid: the backends differ in the traces, not in the MLP (refrax bench surface sweeps them by default)
+surface_opts="--widths 64 --grids 100 --runs 3"
+[ $mode = smoke ] && surface_opts="--widths 32 --grids 50 --rays 128 --runs 1"
 
 if [ $charts_only = 0 ]; then
   for b in rayquery compute; do
     echo "$b:"
     "$REFRAX" bench tracer --trace "$b" --counts $counts > "$out/tracer-$b.log" 2>&1 || echo "  tracer FAILED"
-    "$REFRAX" bench surface --trace "$b" > "$out/surface-$b.log" 2>&1 || echo "  surface FAILED"
+    # shellcheck disable=SC2086
+    "$REFRAX" bench surface --trace "$b" $surface_opts --csv "$out/surface-$b.csv" > "$out/surface-$b.log" 2>&1 || echo "  surface FAILED"
     for model in refraction no-refraction; do
       flags="--$model"
       # shellcheck disable=SC2086
@@ -50,8 +54,12 @@ def text(name):
     p = os.path.join(out, name)
     return open(p).read() if os.path.exists(p) else ""
 def tracer(b):
-    # "N Gaussians ... forward X ms ... backward Y ms" lines of refrax bench tracer: every number with its unit
-    return [l for l in text(f"tracer-{b}.log").splitlines() if "Mrays/s" in l]
+    # refrax bench tracer's tables: each scene's header, the column names and one row per proxy
+    keep = ("==", "proxy ", "aabb-blas", "instanced-unit-box")
+    return [l for l in text(f"tracer-{b}.log").splitlines() if l.startswith(keep)]
+def surface(b):
+    # the per-configuration line (stage times, hits, errors) and the trace stages the backends differ in
+    return [l for l in text(f"surface-{b}.log").splitlines() if l.startswith("  grid ") or "trace: global" in l or " test " in l]
 def metrics(b, model):
     p = os.path.join(out, f"train-{b}-{model}.metrics.json")
     return json.load(open(p)) if os.path.exists(p) else None
@@ -81,8 +89,8 @@ fa, fb = frame("rayquery"), frame("compute")
 lines += ["", "## Rendering the refraction run's test view (water kept)", ""]
 if fa and fb:
     lines.append(f"rayquery {fa:.2f} ms per frame, compute {fb:.2f} ms: compute / rayquery {fa / fb:.2f}.")
-lines += ["", "## The Gaussian tracer alone (refrax bench tracer)", "", "rayquery:", "```"] + tracer("rayquery") + ["```", "compute:", "```"] + tracer("compute") + ["```"]
-lines += ["", "## The water stage alone (refrax bench surface, last lines)", "", "rayquery:", "```"] + text("surface-rayquery.log").splitlines()[-8:] + ["```", "compute:", "```"] + text("surface-compute.log").splitlines()[-8:] + ["```"]
+lines += ["", "## The Gaussian tracer alone (refrax bench tracer)", "", "rayquery:", "\`\`\`"] + tracer("rayquery") + ["\`\`\`", "compute:", "\`\`\`"] + tracer("compute") + ["\`\`\`"]
+lines += ["", "## The water stage alone (refrax bench surface: the stage, and its global trace and subdivision levels)", "", "rayquery:", "\`\`\`"] + surface("rayquery") + ["\`\`\`", "compute:", "\`\`\`"] + surface("compute") + ["\`\`\`"]
 open(summary, "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
 EOF

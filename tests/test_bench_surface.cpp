@@ -1,0 +1,38 @@
+// refrax bench surface on whichever trace backend the pass selects (REFRAX_TRACE): the second
+// CTest pass runs it on the compute backend, where the raw triangle trace has no acceleration
+// structure to run against (it failed there with a binding-count error before it was skipped).
+#include <doctest/doctest.h>
+
+#include <sstream>
+
+#include "engine/io/atomic_file.h"
+#include "tests/gpu_test.h"
+#include "tests/train_test_util.h"
+
+using namespace refrax;
+
+TEST_CASE("bench surface: one CSV row per MLP width and grid, with stage times and hit errors") {
+  test::TrainTempDir dir;
+  test::CliResult r = test::runCli("bench surface --rays 24 --widths 16 --grids 8 --finest 32 --hidden 2 --runs 1 --csv " +
+                                   (dir / "s.csv"));
+  INFO(r.output);
+  REQUIRE(r.exitCode == 0);
+  std::stringstream csv(readFile(dir / "s.csv"));
+  std::string header, row, extra;
+  REQUIRE(std::getline(csv, header));
+  CHECK(header.rfind("device,rays,mlp_width,hidden_layers,grid_cells,levels,", 0) == 0);
+  REQUIRE(std::getline(csv, row));
+  INFO(row);
+  std::stringstream fields(row.substr(row.find("\",") + 2));  // after the quoted device name
+  double rays = 0, width = 0, hidden = 0, cells = 0, levels = 0, spacing = 0, updateMs = 0, traceMs = 0;
+  char c;
+  fields >> rays >> c >> width >> c >> hidden >> c >> cells >> c >> levels >> c >> spacing >> c >> updateMs >> c >> traceMs;
+  CHECK(rays == 24 * 24);
+  CHECK(width == 16);
+  CHECK(hidden == 2);
+  CHECK(cells == 8);
+  CHECK(levels == 2);  // 8 << 2 = 32 finest cells
+  CHECK(updateMs > 0);
+  CHECK(traceMs > 0);
+  CHECK(!std::getline(csv, extra));
+}
