@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Scaling (issue 8, part 4): time per training step and per rendered frame (medians), and the
 # peak memory, against the image size, the Gaussian count and the surface grid size, from
-# `refrax bench scaling` (trainer/bench_scaling.cpp: the refraction model, whole-image steps,
+# `refrax bench scaling` (trainer/bench/bench_scaling.cpp: the refraction model, whole-image steps,
 # no densification, the surface learning from the first step).
 #
 # Usage: bench/scaling.sh [--full] [--out DIR]   (build first)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The two trace backends side by side in one run on one device (engine/vk_context.h
+# The two trace backends side by side in one run on one device (engine/vk/vk_context.h
 # TraceBackend): ray queries against acceleration structures, and compute shaders walking the
 # water's grid and the proxies' box BVH. For each, one after the other:
 #   tracer   refrax bench tracer (the Gaussian tracer's forward and backward, 10k and 100k Gaussians)

@@ -1,5 +1,5 @@
 # Straight-line height-field kernels, generated at build time for these shapes
-# (engine/height_kernel_shapes.h explains the forms; other shapes use the loop-based kernels):
+# (engine/height/height_kernel_shapes.h explains the forms; other shapes use the loop-based kernels):
 #   fused:   widths REFRAX_HEIGHT_FUSED_WIDTHS x hidden layers 1..8 x octaves REFRAX_HEIGHT_OCTAVES,
 #            forward and backward pass 1
 #   layered: widths REFRAX_HEIGHT_LAYERED_WIDTHS (any depth) x octaves REFRAX_HEIGHT_OCTAVES
@@ -10,7 +10,7 @@ set(REFRAX_HEIGHT_LAYERED_WIDTHS 128 256 CACHE STRING "widths with layered strai
 set(REFRAX_HEIGHT_OCTAVES 6 CACHE STRING "encoding octaves with straight-line height-field kernels")
 set(REFRAX_HEIGHT_MAX_FUSED_DEPTH 8 CACHE STRING "deepest fused straight-line height-field kernel")
 
-add_executable(refrax_generate_height_kernels ${CMAKE_SOURCE_DIR}/shaders/generate_height_kernels.cpp)
+add_executable(refrax_generate_height_kernels ${CMAKE_SOURCE_DIR}/shaders/height/generate_height_kernels.cpp)
 target_include_directories(refrax_generate_height_kernels PRIVATE ${CMAKE_SOURCE_DIR})
 
 # Sets out_var to the generated .comp files (in the build tree).
@@ -42,7 +42,7 @@ function(refrax_generate_height_kernels out_var)
     generate(height_layer_hidden_w${width} hidden ${width})
     generate(height_layer_last_w${width} last ${width})
   endforeach()
-  foreach(mb 1 16 32)  # kHeightGradBlocks in engine/height_kernel_shapes.h
+  foreach(mb 1 16 32)  # kHeightGradBlocks in engine/height/height_kernel_shapes.h
     foreach(add atomic cas)
       generate(height_grad_tile_mb${mb}_${add} grad ${mb} ${add})
     endforeach()

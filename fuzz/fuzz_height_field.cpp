@@ -1,5 +1,5 @@
 // height_field.bin. As for checkpoints, the checksum is appended here.
-#include "engine/height_field_file.h"
+#include "engine/height/height_field_file.h"
 #include "fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

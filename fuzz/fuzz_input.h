@@ -13,7 +13,7 @@
 #include <fstream>
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 
 namespace refrax::fuzz {
 

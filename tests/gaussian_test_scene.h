@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/gaussian_trace.h"
+#include "engine/gaussian/gaussian_trace.h"
 #include "engine/reference/gaussian_trace_ref.h"
 #include "engine/reference/random_rays.h"
 

@@ -6,8 +6,8 @@
 #include <random>
 #include <string>
 
-#include "engine/error.h"
-#include "engine/vk_context.h"
+#include "engine/base/error.h"
+#include "engine/vk/vk_context.h"
 
 namespace refrax::test {
 

@@ -8,10 +8,10 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/mesh_surface.h"
+#include "engine/surface/mesh_surface.h"
 #include "engine/reference/random_rays.h"
-#include "engine/vk_buffer.h"
-#include "engine/vk_commands.h"
+#include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_commands.h"
 
 namespace refrax::test {
 

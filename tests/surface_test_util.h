@@ -6,11 +6,11 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/analytic_height.h"
+#include "engine/height/analytic_height.h"
 #include "engine/reference/random_rays.h"
-#include "engine/vk_buffer.h"
-#include "engine/vk_commands.h"
-#include "engine/water_surface.h"
+#include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/surface/water_surface.h"
 
 namespace refrax::test {
 

@@ -1,17 +1,17 @@
 // Ray queries against triangle and AABB acceleration structures, build and refit, all
 // checked against brute-force CPU double-precision references. The closest-hit and candidate
 // cases run on the context's trace backend (REFRAX_TRACE=compute: the box BVHs of
-// engine/box_bvh.h); the refit cases are the acceleration structures' own.
+// engine/trace/box_bvh.h); the refit cases are the acceleration structures' own.
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "engine/grid_mesh.h"
-#include "engine/presort.h"
-#include "engine/ray_trace.h"
+#include "engine/surface/grid_mesh.h"
+#include "engine/trace/presort.h"
+#include "engine/trace/ray_trace.h"
 #include "engine/reference/check_trace.h"
 #include "engine/reference/random_rays.h"
-#include "engine/vk_commands.h"
+#include "engine/vk/vk_commands.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

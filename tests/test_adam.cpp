@@ -4,10 +4,10 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/adam.h"
+#include "engine/optim/adam.h"
 #include "engine/reference/adam_ref.h"
-#include "engine/vk_buffer.h"
-#include "engine/vk_commands.h"
+#include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_commands.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -4,11 +4,11 @@
 #include <cstring>
 #include <vector>
 
-#include "engine/vk_buffer.h"
-#include "engine/vk_commands.h"
-#include "engine/shader_table.h"
-#include "engine/vk_pipeline.h"
-#include "engine/vk_timer.h"
+#include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/shader_table.h"
+#include "engine/vk/vk_pipeline.h"
+#include "engine/vk/vk_timer.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "engine/builtin_surface_spec.h"
-#include "engine/error.h"
+#include "engine/surface/builtin_surface_spec.h"
+#include "engine/base/error.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -5,9 +5,9 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "engine/camera_rays.h"
+#include "engine/camera/camera_rays.h"
 #include "engine/reference/camera_rays_ref.h"
-#include "engine/vk_commands.h"
+#include "engine/vk/vk_commands.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

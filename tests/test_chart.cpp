@@ -10,7 +10,7 @@
 #include <random>
 #include <regex>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/report/csv_chart.h"
 #include "engine/report/csv_table.h"

@@ -16,7 +16,7 @@
 #include "engine/dataset/dataset.h"
 #include "engine/dataset/ground_truth.h"
 #include "engine/dataset/scene_bounds.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/image_io.h"
 #include "engine/io/npy.h"
 #include "tests/gpu_test.h"

@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "engine/densify.h"
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
+#include "engine/gaussian/densify.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

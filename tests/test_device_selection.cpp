@@ -1,8 +1,8 @@
 // Device choice by name/index, and the clear error when nothing matches.
 #include <doctest/doctest.h>
 
-#include "engine/error.h"
-#include "engine/vk_context.h"
+#include "engine/base/error.h"
+#include "engine/vk/vk_context.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "engine/fly_camera.h"
+#include "engine/view/fly_camera.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -1,4 +1,4 @@
-// The Gaussian table's Adam on the host (engine/train/gaussian_adam.h) against the double
+// The Gaussian table's Adam on the host (engine/optim/gaussian_adam.h) against the double
 // reference (engine/reference/adam_ref.h): every column group with its own learning rate and
 // bias correction, a group reset midway, non-finite gradients taken as zero.
 #include <doctest/doctest.h>
@@ -7,9 +7,9 @@
 #include <random>
 #include <vector>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/reference/adam_ref.h"
-#include "engine/train/gaussian_adam.h"
+#include "engine/optim/gaussian_adam.h"
 
 using namespace refrax;
 

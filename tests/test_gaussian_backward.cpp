@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/gaussian_math.h"
-#include "engine/gaussian_trace.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/gaussian/gaussian_trace.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"
 

@@ -4,11 +4,11 @@
 #include <numeric>
 
 #include "engine/reference/camera_rays_ref.h"
-#include "engine/water_removal.h"
-#include "engine/gaussian_math.h"
-#include "engine/gaussian_trace.h"
-#include "engine/presort.h"
-#include "engine/vk_buffer.h"
+#include "engine/gaussian/water_removal.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/gaussian/gaussian_trace.h"
+#include "engine/trace/presort.h"
+#include "engine/vk/vk_buffer.h"
 #include "engine/reference/gaussian_trace_ref.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"

@@ -10,8 +10,8 @@
 #include <string>
 #include <unistd.h>
 
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
 #include "engine/io/ply_gaussians.h"

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/error.h"
-#include "engine/grid_mesh.h"
+#include "engine/base/error.h"
+#include "engine/surface/grid_mesh.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/gltf_surface.h"
 

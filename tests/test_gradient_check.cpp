@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/train/gradient_check.h"
-#include "engine/vk_commands.h"
+#include "engine/vk/vk_commands.h"
 #include "tests/train_test_util.h"
 
 namespace refrax {

@@ -7,11 +7,12 @@
 #include <fstream>
 #include <vector>
 
-#include "engine/height_encoding.h"
-#include "engine/height_field.h"
-#include "engine/vk_buffer.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
+#include "engine/height/height_encoding.h"
+#include "engine/height/height_field.h"
+#include "engine/reference/height_field_ref.h"
+#include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "engine/dataset/dataset.h"
-#include "engine/gaussian_math.h"
+#include "engine/gaussian/gaussian_math.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"

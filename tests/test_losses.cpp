@@ -5,10 +5,10 @@
 #include <limits>
 #include <vector>
 
-#include "engine/image_loss.h"
+#include "engine/loss/image_loss.h"
 #include "engine/reference/image_loss_ref.h"
-#include "engine/vk_buffer.h"
-#include "engine/vk_commands.h"
+#include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_commands.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -1,4 +1,4 @@
-// Surface swap (engine/mesh_surface.h): cmdRefractThroughMesh on random meshes (a perturbed
+// Surface swap (engine/surface/mesh_surface.h): cmdRefractThroughMesh on random meshes (a perturbed
 // non-uniform grid, a triangle soup with steep, vertical and back-facing triangles) against
 // the brute-force double reference (engine/reference/mesh_refract_ref.h), with misses,
 // rescaled, short and invalid rays; a glTF round trip; baking an analytic height field; bad
@@ -11,11 +11,11 @@
 #include <cstdio>
 #include <limits>
 
-#include "engine/analytic_height.h"
-#include "engine/error.h"
-#include "engine/grid_mesh.h"
+#include "engine/height/analytic_height.h"
+#include "engine/base/error.h"
+#include "engine/surface/grid_mesh.h"
 #include "engine/io/gltf_surface.h"
-#include "engine/mesh_surface.h"
+#include "engine/surface/mesh_surface.h"
 #include "engine/reference/mesh_refract_ref.h"
 #include "tests/gpu_test.h"
 #include "tests/mesh_surface_test_util.h"

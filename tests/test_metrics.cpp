@@ -5,8 +5,8 @@
 #include <random>
 #include <vector>
 
-#include "engine/error.h"
-#include "engine/metrics.h"
+#include "engine/base/error.h"
+#include "engine/loss/metrics.h"
 #include "engine/reference/image_loss_ref.h"
 #include "tests/gpu_test.h"
 

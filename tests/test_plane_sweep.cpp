@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
 #include "engine/train/init_gaussians.h"
 #include "engine/train/plane_sweep.h"
 #include "engine/train/train_session.h"

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <map>
 
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
 #include "engine/report/csv_table.h"

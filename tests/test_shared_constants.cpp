@@ -8,9 +8,9 @@
 #include <cmath>
 #include <random>
 
-#include "engine/gaussian_math.h"
-#include "engine/shared_math.h"
-#include "engine/surface_math.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/base/shared_math.h"
+#include "engine/surface/surface_math.h"
 
 // image_loss.glsl in a namespace of its own (it shares helper names with gaussian_math.glsl)
 namespace refrax::loss64 {

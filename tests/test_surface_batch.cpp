@@ -1,11 +1,11 @@
-// The water surface across several traces of one set of heights (engine/water_surface.h):
+// The water surface across several traces of one set of heights (engine/surface/water_surface.h):
 // the lattice points stay cached until cmdUpdateSurface, and dL/dheight summed over several
 // traces and pushed into the MLP once equals the traces' backwards pushed one by one.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "engine/height_field_source.h"
+#include "engine/height/height_field_source.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_test_util.h"
 

@@ -8,7 +8,8 @@
 #include <map>
 #include <set>
 
-#include "engine/height_field_source.h"
+#include "engine/height/height_field_source.h"
+#include "engine/reference/height_field_ref.h"
 #include "engine/reference/surface_ref.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_test_util.h"

@@ -1,4 +1,4 @@
-// The slope prior of --surface-smoothness (engine/surface_prior.h): its value on a tilted
+// The slope prior of --surface-smoothness (engine/surface/surface_prior.h): its value on a tilted
 // plane, its gradient against central differences on random heights (a bordered grid as the
 // water surface stores it, and a plain one), and its refusals; the level prior of --level-prior
 // likewise, on exact quadratics, random heights and weights, and degenerate seen regions.
@@ -8,8 +8,8 @@
 
 #include <doctest/doctest.h>
 
-#include "engine/error.h"
-#include "engine/surface_prior.h"
+#include "engine/base/error.h"
+#include "engine/surface/surface_prior.h"
 
 using namespace refrax;
 

@@ -4,7 +4,7 @@
 // path (the surface stage on a flat surface) against the scalar law.
 #include <cmath>
 
-#include "engine/surface_math.h"
+#include "engine/surface/surface_math.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_test_util.h"
 

@@ -10,7 +10,7 @@
 #include <random>
 #include <tiny_gltf.h>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
 #include "engine/io/json_io.h"

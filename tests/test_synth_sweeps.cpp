@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <random>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
 #include "engine/io/json_io.h"

@@ -1,17 +1,17 @@
-// The tiled Gaussian forward (engine/tiled_trace.h): the bundle cone's sphere test against
+// The tiled Gaussian forward (engine/gaussian/tiled_trace.h): the bundle cone's sphere test against
 // brute force in float and double, and the tiled forward against the BVH forward and the
 // double reference on camera rays, refracted rays with empty ones among them, several k-buffer
 // rounds, and lists that overflow.
 #include <algorithm>
 #include <cmath>
 
-#include "engine/fly_camera.h"
+#include "engine/view/fly_camera.h"
 #include "engine/reference/camera_rays_ref.h"
-#include "engine/shared_math.h"
-#include "engine/surface_math.h"
-#include "engine/tiled_trace.h"
-#include "engine/vk_commands.h"
-#include "engine/water_removal.h"
+#include "engine/base/shared_math.h"
+#include "engine/surface/surface_math.h"
+#include "engine/gaussian/tiled_trace.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/gaussian/water_removal.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"
 

@@ -1,13 +1,13 @@
-// The two trace backends side by side (engine/vk_context.h TraceBackend): ray queries against
+// The two trace backends side by side (engine/vk/vk_context.h TraceBackend): ray queries against
 // acceleration structures, and compute shaders walking the water's grid and the proxies' box
 // BVH. The same Gaussians and rays give the same hits in the same order, bit for bit; the
 // same water gives the same triangles, within float rounding at edges.
 #include <cmath>
 #include <cstring>
 
-#include "engine/analytic_height.h"
-#include "engine/gaussian_trace.h"
-#include "engine/vk_context.h"
+#include "engine/height/analytic_height.h"
+#include "engine/gaussian/gaussian_trace.h"
+#include "engine/vk/vk_context.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_test_util.h"

@@ -10,10 +10,10 @@
 #include <functional>
 
 #include "engine/dataset/dataset.h"
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
-#include "engine/height_field.h"
-#include "engine/surface_prior.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/height/height_field.h"
+#include "engine/surface/surface_prior.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
 #include "engine/io/npy.h"
@@ -80,7 +80,7 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
   CHECK(c.refraction["water_removal_psnr"].get<double>() >= c.plain["water_removal_psnr"].get<double>() - 0.25);
 }
 
-// Every run's metrics.json gives the mean time per step of each stage (engine/vk_profile.h).
+// Every run's metrics.json gives the mean time per step of each stage (engine/vk/vk_profile.h).
 TEST_CASE("train: metrics.json profiles each stage of a step, and --profile prints the table") {
   const TinyComparison& c = tinyComparison();
   const nlohmann::json& p = c.refraction["profile"];

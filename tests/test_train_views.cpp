@@ -7,7 +7,7 @@
 #include <random>
 
 #include "engine/dataset/dataset.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/json_io.h"
 #include "engine/train/train_config.h"
 #include "engine/train/train_run.h"

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "engine/train/render_run.h"
-#include "engine/view_camera.h"
+#include "engine/view/view_camera.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "engine/vk_commands.h"
-#include "engine/view_compose.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/view/view_compose.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

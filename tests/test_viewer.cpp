@@ -12,8 +12,8 @@
 #include <sys/wait.h>
 
 #include "engine/io/image_io.h"
-#include "engine/builtin_surfaces.h"
-#include "engine/grid_mesh.h"
+#include "engine/surface/builtin_surfaces.h"
+#include "engine/surface/grid_mesh.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/train_run.h"
@@ -116,7 +116,7 @@ TEST_CASE("refrax-view shows a trained run's dataset camera as refrax render doe
     CHECK(maxDifference(a, b) <= 1.0 / 255.0);
     shots[water] = a;
     if (water == "keep") {
-      // the viewer's default Gaussian trace is tiled (engine/tiled_trace.h); the BVH traversal
+      // the viewer's default Gaussian trace is tiled (engine/gaussian/tiled_trace.h); the BVH traversal
       // per ray, as refrax render traces, gives the same image
       std::string bvhShot = dir / "view-bvh.png";
       auto w = runShell(viewer(run + " --view test:0 --size 64 --frames 3 --exact-water --gaussian-trace bvh --screenshot " + bvhShot));

@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "engine/error.h"
-#include "engine/vk_context.h"
+#include "engine/base/error.h"
+#include "engine/vk/vk_context.h"
 
 namespace refrax::cli {
 

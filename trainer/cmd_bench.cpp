@@ -1,11 +1,11 @@
 // refrax bench <suite>: dispatches to the suites registered with REFRAX_BENCH_SUITE.
-#include "trainer/bench.h"
+#include "trainer/bench/bench.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "trainer/cli.h"
 
 namespace refrax::bench {

@@ -2,7 +2,7 @@
 // columns as plain SVG (engine/report/), for the benchmark scripts under bench/.
 #include <cstdio>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/report/csv_chart.h"
 #include "trainer/cli.h"
 

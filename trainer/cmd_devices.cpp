@@ -1,7 +1,7 @@
 // refrax devices: every Vulkan device, what it offers and what it lacks.
 #include <cstdio>
 
-#include "engine/vk_context.h"
+#include "engine/vk/vk_context.h"
 #include "trainer/cli.h"
 
 namespace refrax {

@@ -2,11 +2,11 @@
 // or --dataset DIR): test PSNR/SSIM, surface RMSE against the ground truth, water-removal PSNR.
 #include <cstdio>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/json_io.h"
 #include "engine/train/render_run.h"
 #include "engine/train/train_run.h"
-#include "engine/vk_context.h"
+#include "engine/vk/vk_context.h"
 #include "trainer/cli.h"
 
 namespace refrax {

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/json_io.h"
 #include "engine/train/gradient_check.h"
 #include "engine/train/train_run.h"
-#include "engine/vk_context.h"
+#include "engine/vk/vk_context.h"
 #include "trainer/cli.h"
 #include "trainer/dataset_options.h"
 

@@ -5,7 +5,7 @@
 
 #include "engine/dataset/dataset.h"
 #include "engine/dataset/scene_bounds.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "trainer/cli.h"
 #include "trainer/dataset_options.h"
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/builtin_surfaces.h"
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
-#include "engine/grid_mesh.h"
+#include "engine/surface/builtin_surfaces.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/surface/grid_mesh.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/io/json_io.h"
 #include "engine/io/ply_gaussians.h"

@@ -2,12 +2,12 @@
 // wireframe, to PNG — the headless twin of refrax-view's surface view.
 #include <cstdio>
 
-#include "engine/builtin_surfaces.h"
-#include "engine/error.h"
-#include "engine/grid_mesh.h"
-#include "engine/surface_preview.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
+#include "engine/surface/builtin_surfaces.h"
+#include "engine/base/error.h"
+#include "engine/surface/grid_mesh.h"
+#include "engine/surface/surface_preview.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
 #include "trainer/cli.h"
 
 namespace refrax {

@@ -9,14 +9,14 @@
 #include <filesystem>
 #include <sstream>
 
-#include "engine/builtin_surface_spec.h"
-#include "engine/error.h"
+#include "engine/surface/builtin_surface_spec.h"
+#include "engine/base/error.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/io/image_io.h"
-#include "engine/mesh_surface.h"
+#include "engine/surface/mesh_surface.h"
 #include "engine/train/render_run.h"
 #include "engine/train/train_run.h"
-#include "engine/vk_context.h"
+#include "engine/vk/vk_context.h"
 #include "trainer/cli.h"
 
 namespace refrax {
@@ -36,7 +36,7 @@ std::vector<double> parseList(const std::string& text, size_t count, const char*
   return v;
 }
 
-// flat[:HEIGHT] or sine[:HEIGHT:AMPLITUDE:WAVELENGTH:DIRECTION_DEG] (engine/builtin_surface_spec.h)
+// flat[:HEIGHT] or sine[:HEIGHT:AMPLITUDE:WAVELENGTH:DIRECTION_DEG] (engine/surface/builtin_surface_spec.h)
 // as the closed-form surface the tracer lifts.
 AnalyticWaves builtinWaves(const std::string& spec, double defaultHeight) {
   std::string kind = spec.substr(0, spec.find(':'));

@@ -5,14 +5,14 @@
 #include <string>
 #include <vector>
 
-#include "engine/fly_camera.h"
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
-#include "engine/gaussian_trace.h"
+#include "engine/view/fly_camera.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/gaussian/gaussian_trace.h"
 #include "engine/io/image_io.h"
 #include "engine/io/ply_gaussians.h"
-#include "engine/vk_context.h"
-#include "engine/water_removal.h"
+#include "engine/vk/vk_context.h"
+#include "engine/gaussian/water_removal.h"
 #include "trainer/cli.h"
 
 namespace refrax {

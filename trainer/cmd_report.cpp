@@ -2,7 +2,7 @@
 // into CSV rows (engine/report/run_report.h), for the benchmark scripts under bench/.
 #include <cstdio>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/report/run_report.h"
 #include "trainer/cli.h"
 

@@ -4,13 +4,13 @@
 #include <cstdio>
 #include <random>
 
-#include "engine/grid_mesh.h"
-#include "engine/presort.h"
-#include "engine/ray_trace.h"
+#include "engine/surface/grid_mesh.h"
+#include "engine/trace/presort.h"
+#include "engine/trace/ray_trace.h"
 #include "engine/reference/check_trace.h"
 #include "engine/reference/random_rays.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
 #include "trainer/cli.h"
 
 namespace refrax {

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <unistd.h>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/synth/synth_dataset.h"
 #include "engine/synth/synth_presets.h"
 #include "trainer/cli.h"

@@ -10,14 +10,14 @@
 #include <set>
 
 #include "engine/dataset/dataset.h"
-#include "engine/error.h"
-#include "engine/gaussian_trace.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_trace.h"
 #include "engine/io/json_io.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/train_run.h"
 #include "engine/train/train_views.h"
-#include "engine/vk_context.h"
-#include "engine/vk_profile.h"
+#include "engine/vk/vk_context.h"
+#include "engine/vk/vk_profile.h"
 #include "trainer/cli.h"
 #include "trainer/dataset_options.h"
 

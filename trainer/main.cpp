@@ -3,7 +3,7 @@
 #include <cstring>
 #include <exception>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "trainer/cli.h"
 
 using namespace refrax;

@@ -2,12 +2,12 @@
 
 #include <cmath>
 
-#include "engine/builtin_surface_spec.h"
-#include "engine/error.h"
-#include "engine/grid_mesh.h"
+#include "engine/surface/builtin_surface_spec.h"
+#include "engine/base/error.h"
+#include "engine/surface/grid_mesh.h"
 #include "engine/io/gltf_surface.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
 
 namespace refrax {
 

@@ -4,7 +4,7 @@
 // and inputs as `refrax render` (engine/train/render_run.cpp), so a screenshot equals its PNG.
 //
 // Two ways through the water:
-//  - baked (the default, the fast path): the water as a triangle mesh (engine/mesh_surface.h):
+//  - baked (the default, the fast path): the water as a triangle mesh (engine/surface/mesh_surface.h):
 //    the learned height field baked once per loaded checkpoint on a bakeCells^2 grid over its
 //    domain (the paper's surface precomputed at render resolution), a built-in surface on the
 //    same grid, or a glTF mesh; one ray query per ray, recorded in the frame's command buffer
@@ -18,15 +18,15 @@
 #include <utility>
 #include <vector>
 
-#include "engine/analytic_height.h"
-#include "engine/builtin_surfaces.h"
-#include "engine/camera.h"
-#include "engine/camera_rays.h"
-#include "engine/mesh_surface.h"
-#include "engine/tiled_trace.h"
-#include "engine/view_compose.h"
-#include "engine/vk_timer.h"
-#include "engine/water_surface.h"
+#include "engine/height/analytic_height.h"
+#include "engine/surface/builtin_surfaces.h"
+#include "engine/camera/camera.h"
+#include "engine/camera/camera_rays.h"
+#include "engine/surface/mesh_surface.h"
+#include "engine/gaussian/tiled_trace.h"
+#include "engine/view/view_compose.h"
+#include "engine/vk/vk_timer.h"
+#include "engine/surface/water_surface.h"
 #include "viewer/view_scene.h"
 
 namespace refrax {
@@ -44,7 +44,7 @@ struct RenderSettings {
   uint32_t gridCells = 64;
   uint32_t shDegree = 3;
   float minTransmittance = TraceOptions{}.minTransmittance;
-  // The Gaussian trace in 8x8 tiles of candidate lists (engine/tiled_trace.h; the same image)
+  // The Gaussian trace in 8x8 tiles of candidate lists (engine/gaussian/tiled_trace.h; the same image)
   // instead of a BVH traversal per ray; off: the BVH, as training and `refrax render` trace.
   bool tiledTrace = true;
   // A baked learned or built-in surface (a height grid) found by walking its cells (engine/

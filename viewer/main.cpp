@@ -20,16 +20,16 @@
 #include <filesystem>
 #include <map>
 
-#include "engine/builtin_surface_spec.h"
-#include "engine/error.h"
-#include "engine/fly_camera.h"
+#include "engine/surface/builtin_surface_spec.h"
+#include "engine/base/error.h"
+#include "engine/view/fly_camera.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/train_run.h"
-#include "engine/view_camera.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
-#include "engine/vk_timer.h"
+#include "engine/view/view_camera.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
+#include "engine/vk/vk_timer.h"
 #include "trainer/cli.h"
 #include "viewer/frame_renderer.h"
 #include "viewer/panels.h"

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/fly_camera.h"
+#include "engine/view/fly_camera.h"
 #include "viewer/frame_renderer.h"
 #include "viewer/view_scene.h"
 

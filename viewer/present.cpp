@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/image_io.h"
-#include "engine/surface_preview.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
+#include "engine/surface/surface_preview.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
 
 namespace refrax {
 

@@ -4,8 +4,8 @@
 // the swapchain image; PNG screenshots of the render target.
 #include <string>
 
-#include "engine/vk_buffer.h"
-#include "engine/vk_image.h"
+#include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_image.h"
 #include "viewer/swapchain.h"
 
 namespace refrax {

@@ -2,10 +2,10 @@
 
 #include <cstdio>
 
-#include "engine/grid_mesh.h"
+#include "engine/surface/grid_mesh.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/train/train_run.h"
-#include "engine/vk_context.h"
+#include "engine/vk/vk_context.h"
 
 namespace refrax {
 

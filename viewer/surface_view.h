@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "engine/builtin_surfaces.h"
-#include "engine/surface_preview.h"
+#include "engine/surface/builtin_surfaces.h"
+#include "engine/surface/surface_preview.h"
 #include "viewer/frame_renderer.h"
 #include "viewer/view_scene.h"
 

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/train_run.h"
-#include "engine/vk_context.h"
+#include "engine/vk/vk_context.h"
 
 namespace refrax {
 

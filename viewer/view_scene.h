@@ -11,13 +11,13 @@
 #include <utility>
 #include <vector>
 
-#include "engine/camera.h"
-#include "engine/gaussian_trace.h"
-#include "engine/gaussians.h"
-#include "engine/height_source.h"
+#include "engine/camera/camera.h"
+#include "engine/gaussian/gaussian_trace.h"
+#include "engine/gaussian/gaussians.h"
+#include "engine/height/height_source.h"
 #include "engine/train/checkpoint_watch.h"
 #include "engine/train/train_session.h"
-#include "engine/water_surface.h"
+#include "engine/surface/water_surface.h"
 
 namespace refrax {
 

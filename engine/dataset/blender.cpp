@@ -4,7 +4,7 @@
 
 #include "engine/dataset/dataset.h"
 #include "engine/dataset/view_image.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/dataset/dataset_json.h"
 #include "engine/io/json_io.h"

@@ -2,7 +2,7 @@
 // Posed image datasets: the NeRF/Blender format (transforms_<split>.json) and LLFF
 // (poses_bounds.npy, as NeRFrac's dataset), plus the water metadata (water.json).
 //
-// World frame: Z up, out of the water; cameras in the Blender/NeRF convention (engine/camera.h:
+// World frame: Z up, out of the water; cameras in the Blender/NeRF convention (engine/camera/camera.h:
 // camera-to-world columns right, up, back; the camera looks down its -Z).
 //
 // Blender: transforms_train.json (required), transforms_test.json and any other
@@ -44,7 +44,7 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/camera.h"
+#include "engine/camera/camera.h"
 #include "engine/io/image_io.h"
 
 namespace refrax {

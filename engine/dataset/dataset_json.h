@@ -3,7 +3,7 @@
 // as 1e999 overflows while parsing; readJson only converts parse errors) into refrax::Error.
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/json_io.h"
 
 namespace refrax {

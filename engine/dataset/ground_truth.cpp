@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "engine/dataset/dataset_json.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/npy.h"
 

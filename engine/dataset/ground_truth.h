@@ -6,9 +6,9 @@
 #include <optional>
 #include <string>
 
-#include "engine/analytic_height.h"
+#include "engine/height/analytic_height.h"
 #include "engine/dataset/dataset.h"
-#include "engine/metrics.h"
+#include "engine/loss/metrics.h"
 
 namespace refrax {
 

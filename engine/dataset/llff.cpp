@@ -6,7 +6,7 @@
 
 #include "engine/dataset/dataset.h"
 #include "engine/dataset/view_image.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/npy.h"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/reference/camera_rays_ref.h"
 
 namespace refrax {

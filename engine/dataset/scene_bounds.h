@@ -18,7 +18,7 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/camera.h"
+#include "engine/camera/camera.h"
 #include "engine/dataset/dataset.h"
 
 namespace refrax {

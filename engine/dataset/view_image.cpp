@@ -1,6 +1,6 @@
 #include "engine/dataset/view_image.h"
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 
 namespace refrax {

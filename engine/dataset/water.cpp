@@ -1,7 +1,7 @@
 #include <cmath>
 
 #include "engine/dataset/dataset.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/dataset/dataset_json.h"
 #include "engine/io/json_io.h"

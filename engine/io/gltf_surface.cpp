@@ -13,7 +13,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 
 namespace refrax {

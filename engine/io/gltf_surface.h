@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/grid_mesh.h"
+#include "engine/surface/grid_mesh.h"
 
 namespace refrax {
 

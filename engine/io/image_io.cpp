@@ -6,7 +6,7 @@
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 
 namespace refrax {

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <regex>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 
 namespace refrax {

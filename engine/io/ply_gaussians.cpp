@@ -6,8 +6,8 @@
 #include <sstream>
 #include <vector>
 
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
 #include "engine/io/atomic_file.h"
 
 namespace refrax {

@@ -7,7 +7,7 @@
 // missing, truncated or non-finite is one clear refrax::Error.
 #include <string>
 
-#include "engine/gaussians.h"
+#include "engine/gaussian/gaussians.h"
 
 namespace refrax {
 

@@ -1,9 +1,9 @@
 #pragma once
-// CPU double reference of one Adam update (engine/adam.h), torch.optim.Adam's formula.
+// CPU double reference of one Adam update (engine/optim/adam.h), torch.optim.Adam's formula.
 #include <cmath>
 #include <vector>
 
-#include "engine/adam.h"
+#include "engine/optim/adam.h"
 
 namespace refrax::ref {
 

@@ -1,7 +1,7 @@
 #pragma once
-// CPU double reference of the camera rays (engine/camera_rays.h).
-#include "engine/camera.h"
-#include "engine/shared_math.h"
+// CPU double reference of the camera rays (engine/camera/camera_rays.h).
+#include "engine/camera/camera.h"
+#include "engine/base/shared_math.h"
 
 namespace refrax::f64 {
 #include "pinhole.glsl"

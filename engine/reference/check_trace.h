@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/presort.h"
-#include "engine/rays.h"
+#include "engine/trace/presort.h"
+#include "engine/trace/rays.h"
 
 namespace refrax::ref {
 

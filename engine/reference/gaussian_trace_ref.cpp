@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/gaussian_math.h"
+#include "engine/gaussian/gaussian_math.h"
 
 namespace refrax::ref {
 

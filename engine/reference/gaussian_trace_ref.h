@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/gaussians.h"
-#include "engine/rays.h"
+#include "engine/gaussian/gaussians.h"
+#include "engine/trace/rays.h"
 
 namespace refrax::ref {
 

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "engine/error.h"
-#include "engine/shared_math.h"
+#include "engine/base/error.h"
+#include "engine/base/shared_math.h"
 
 namespace refrax::f64 {
 #include "image_loss.glsl"

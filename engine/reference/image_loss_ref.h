@@ -1,5 +1,5 @@
 #pragma once
-// CPU double reference of the training losses (engine/image_loss.h), from the same shared
+// CPU double reference of the training losses (engine/loss/image_loss.h), from the same shared
 // math (shaders/include/image_loss.glsl) evaluated in double. Images are row-major,
 // channel-interleaved. Also the SSIM the evaluation metrics report.
 #include <vector>

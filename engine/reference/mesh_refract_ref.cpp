@@ -5,8 +5,8 @@
 #include <cstring>
 #include <limits>
 
-#include "engine/surface_math.h"
-#include "engine/surface_record.h"
+#include "engine/surface/surface_math.h"
+#include "engine/surface/surface_record.h"
 
 namespace refrax::ref {
 

@@ -1,6 +1,6 @@
 #pragma once
-// CPU double-precision reference of the surface swap (engine/mesh_surface.h,
-// shaders/mesh_refract.comp): brute-force closest triangle over the whole mesh, the same
+// CPU double-precision reference of the surface swap (engine/surface/mesh_surface.h,
+// shaders/surface/mesh_refract.comp): brute-force closest triangle over the whole mesh, the same
 // normal interpolation and Snell's law (shaders/include/mesh_refract.glsl in refrax::f64),
 // and the comparison of GPU results with it.
 //
@@ -21,7 +21,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/io/gltf_surface.h"
-#include "engine/rays.h"
+#include "engine/trace/rays.h"
 
 namespace refrax::ref {
 
@@ -53,7 +53,7 @@ struct MeshRefractOptions {
   double tRelEps = 1e-5;  // relative reach of float hit distances (of a hit square to the ray)
 };
 
-// `unitNormals` as the device holds them (meshUnitNormals in engine/mesh_surface.h).
+// `unitNormals` as the device holds them (meshUnitNormals in engine/surface/mesh_surface.h).
 MeshRayRef refractThroughMeshRef(const SurfaceMesh& mesh, const std::vector<float>& unitNormals, const GpuRay& ray,
                                  const MeshRefractOptions& options = {});
 

@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "engine/rays.h"
+#include "engine/trace/rays.h"
 
 namespace refrax::ref {
 

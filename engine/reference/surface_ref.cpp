@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "engine/reference/ray_intersect.h"
-#include "engine/surface_math.h"
+#include "engine/surface/surface_math.h"
 
 namespace refrax::ref {
 

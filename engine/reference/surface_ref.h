@@ -1,7 +1,7 @@
 #pragma once
-// CPU double-precision reference of the water-surface stage (engine/water_surface.h): the
+// CPU double-precision reference of the water-surface stage (engine/surface/water_surface.h): the
 // same lattice, child choice, normals and Snell's law (shared with the shaders through
-// engine/surface_math.h), with H called directly in double instead of through a hash table.
+// engine/surface/surface_math.h), with H called directly in double instead of through a hash table.
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -10,8 +10,8 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/rays.h"
-#include "engine/water_surface.h"
+#include "engine/trace/rays.h"
+#include "engine/surface/water_surface.h"
 
 namespace refrax::ref {
 
@@ -24,7 +24,7 @@ struct SurfaceTriangle {
 };
 
 struct SurfaceRefHit {
-  uint32_t flags = 0;  // kSurfaceHit, kSurfaceMissed, ... (engine/surface_record.h)
+  uint32_t flags = 0;  // kSurfaceHit, kSurfaceMissed, ... (engine/surface/surface_record.h)
   SurfaceTriangle tri;
   double t = 0, u = 0, v = 0;
   glm::dvec3 p{0}, n{0}, w{0};  // hit point, normal facing the ray, refracted direction

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <map>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
 #include "engine/synth/synth_rng.h"

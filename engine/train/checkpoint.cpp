@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <sstream>
 
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/train/checkpoint_format.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
 
 namespace refrax {
 namespace {

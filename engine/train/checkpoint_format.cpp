@@ -4,8 +4,8 @@
 #include <random>
 #include <sstream>
 
-#include "engine/error.h"
-#include "engine/gaussians.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussians.h"
 
 namespace refrax {
 namespace {

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/error.h"
-#include "engine/height_field.h"
-#include "engine/height_field_source.h"
-#include "engine/vk_commands.h"
+#include "engine/base/error.h"
+#include "engine/height/height_field.h"
+#include "engine/height/height_field_source.h"
+#include "engine/vk/vk_commands.h"
 
 namespace refrax {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "engine/gaussian_math.h"
+#include "engine/gaussian/gaussian_math.h"
 
 namespace refrax {
 

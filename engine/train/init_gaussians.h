@@ -5,7 +5,7 @@
 // zero higher SH bands.
 #include <random>
 
-#include "engine/gaussians.h"
+#include "engine/gaussian/gaussians.h"
 #include "engine/train/plane_sweep.h"
 
 namespace refrax {

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "engine/io/image_io.h"
-#include "engine/rays.h"
+#include "engine/trace/rays.h"
 
 namespace refrax {
 

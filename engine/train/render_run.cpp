@@ -4,10 +4,10 @@
 #include <filesystem>
 
 #include "engine/dataset/ground_truth.h"
-#include "engine/error.h"
-#include "engine/surface_record.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
+#include "engine/base/error.h"
+#include "engine/surface/surface_record.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
 
 namespace refrax {
 

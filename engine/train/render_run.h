@@ -1,8 +1,8 @@
 #pragma once
 // Rendering a trained model and measuring it: a view through the learned water (camera rays
 // refracted at the surface, then the Gaussians), with the water removed (straight rays), or
-// through another surface swapped in (a closed-form one: flat or sine, engine/analytic_height.h;
-// or any triangle mesh, engine/mesh_surface.h);
+// through another surface swapped in (a closed-form one: flat or sine, engine/height/analytic_height.h;
+// or any triangle mesh, engine/surface/mesh_surface.h);
 // and the metrics of a run against a dataset (test PSNR/SSIM, surface RMSE against the ground
 // truth, water-removal PSNR against the air images).
 #include <optional>
@@ -12,11 +12,11 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "engine/analytic_height.h"
-#include "engine/camera.h"
+#include "engine/height/analytic_height.h"
+#include "engine/camera/camera.h"
 #include "engine/io/image_io.h"
-#include "engine/mesh_surface.h"
-#include "engine/metrics.h"
+#include "engine/surface/mesh_surface.h"
+#include "engine/loss/metrics.h"
 #include "engine/train/train_session.h"
 
 namespace refrax {

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/dataset/dataset.h"
-#include "engine/gaussian_trace.h"  // kDefaultKBuffer
+#include "engine/gaussian/gaussian_trace.h"  // kDefaultKBuffer
 
 namespace refrax {
 
@@ -95,10 +95,10 @@ struct TrainConfig {
   // their disagreement (docs/experiments/2026-11-26-surface-batch.md). 0 (--surface-batch views): the training view count, one
   // surface step per pass over the views (surfaceBatchSteps).
   int surfaceBatch = 1;
-  // Weight of the slope prior (engine/surface_prior.h) added to the loss while the surface
+  // Weight of the slope prior (engine/surface/surface_prior.h) added to the loss while the surface
   // learns; 0 (the reference): none.
   double surfaceSmoothness = 0;
-  // Weight of the level prior (engine/surface_prior.h: the seen water's tilt and bowl) added
+  // Weight of the level prior (engine/surface/surface_prior.h: the seen water's tilt and bowl) added
   // to the loss while the height field learns; 0 (the reference): none.
   double levelPrior = 0;
   uint32_t gridCells = 64, subdivisionLevels = 2;
@@ -110,7 +110,7 @@ struct TrainConfig {
   // Weight of the density (opacity) loss, weight * mean(sigmoid(logit)^2) over all Gaussians;
   // reference 0.007 (docs/method.md §1.6), 0 switches it off (the paper's ablation).
   double densityLossWeight = 0.007;
-  bool densify = true;             // clone/split/prune (engine/densify.h)
+  bool densify = true;             // clone/split/prune (engine/gaussian/densify.h)
   double densifyGradThreshold = 3e-4;
 
   // Batching: 0 trains on whole images; P > 0 on one random P x P patch of the image per step

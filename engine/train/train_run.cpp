@@ -6,7 +6,7 @@
 
 #include "engine/dataset/ground_truth.h"
 #include "engine/dataset/scene_bounds.h"
-#include "engine/error.h"
+#include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
@@ -14,9 +14,9 @@
 #include "engine/train/checkpoint.h"
 #include "engine/train/render_run.h"
 #include "engine/train/train_views.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
-#include "engine/vk_profile.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
+#include "engine/vk/vk_profile.h"
 
 namespace refrax {
 

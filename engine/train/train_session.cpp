@@ -7,16 +7,16 @@
 #include <cstdlib>
 
 #include "engine/dataset/ground_truth.h"
-#include "engine/error.h"
-#include "engine/gaussian_math.h"
-#include "engine/height_field_source.h"
-#include "engine/surface_prior.h"
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/height/height_field_source.h"
+#include "engine/surface/surface_prior.h"
 #include "engine/train/init_gaussians.h"
-#include "engine/strided_copy.h"
+#include "engine/vk/strided_copy.h"
 #include "engine/train/plane_sweep.h"
-#include "engine/vk_commands.h"
-#include "engine/vk_context.h"
-#include "engine/vk_profile.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
+#include "engine/vk/vk_profile.h"
 
 namespace refrax {
 namespace {

@@ -8,11 +8,11 @@
 //   -> surface backward -> dL/dheight at the lattice points, summed over the surface batch
 //   -> at each surface step (every --surface-batch steps): the priors' gradient
 //      (--surface-smoothness, --level-prior) added, dL/dheight -> dL/d(height parameters)
-//      once over the batch's points, Adam on the MLP (device Adam, engine/adam.h) or the one
+//      once over the batch's points, Adam on the MLP (device Adam, engine/optim/adam.h) or the one
 //      height of --flat-water, the surface lifted again
-//   -> Adam on the Gaussian table's six groups (engine/train/gaussian_adam.h).
+//   -> Adam on the Gaussian table's six groups (engine/optim/gaussian_adam.h).
 // The camera rays, the Gaussians, the loss and the backward share one submission with the
-// surface trace's last (profile: `refrax train --profile`, engine/vk_profile.h).
+// surface trace's last (profile: `refrax train --profile`, engine/vk/vk_profile.h).
 // The session is not movable (height sources refer to its members): it lives in a unique_ptr.
 #include <cstdint>
 #include <functional>
@@ -22,18 +22,18 @@
 #include <string>
 #include <vector>
 
-#include "engine/adam.h"
-#include "engine/analytic_height.h"
-#include "engine/camera_rays.h"
+#include "engine/optim/adam.h"
+#include "engine/height/analytic_height.h"
+#include "engine/camera/camera_rays.h"
 #include "engine/dataset/dataset.h"
-#include "engine/densify.h"
-#include "engine/gaussian_trace.h"
-#include "engine/height_field.h"
-#include "engine/image_loss.h"
-#include "engine/train/gaussian_adam.h"
+#include "engine/gaussian/densify.h"
+#include "engine/gaussian/gaussian_trace.h"
+#include "engine/height/height_field.h"
+#include "engine/loss/image_loss.h"
+#include "engine/optim/gaussian_adam.h"
 #include "engine/train/train_config.h"
-#include "engine/vk_profile.h"
-#include "engine/water_surface.h"
+#include "engine/vk/vk_profile.h"
+#include "engine/surface/water_surface.h"
 
 namespace refrax {
 
@@ -86,12 +86,12 @@ struct TrainSession {
   uint32_t capacity = 0;
   CameraRayPipelines rayPipelines;
   LossPipelines lossPipelines;
-  ComputePipeline copyPipeline;  // layouts handed between stages (engine/strided_copy.h)
+  ComputePipeline copyPipeline;  // layouts handed between stages (engine/vk/strided_copy.h)
   ImageLossScratch lossScratch;
   Buffer pixels, rays, refracted, records, results, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
   HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
 
-  // Densification (engine/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
+  // Densification (engine/gaussian/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
   // accumulated since the last clone/split, and the schedule derived from config.schedule.
   std::vector<float> densifyStats;
   // --anchor-mean-height and --level-prior: each coarse grid slot's weight in the anchored
@@ -106,7 +106,7 @@ struct TrainSession {
   uint32_t viewCursor = 0;
   int step = 0;                     // steps taken
   double trainingSeconds = 0;       // wall time spent in steps (carried across resumes)
-  GpuProfiler profiler;             // the steps of this process, stage by stage (engine/vk_profile.h)
+  GpuProfiler profiler;             // the steps of this process, stage by stage (engine/vk/vk_profile.h)
 };
 
 // Loads nothing: `dataset` and `config` (resolved) are given. Initialises the Gaussians,
@@ -124,7 +124,7 @@ int surfaceBatchSteps(const TrainSession& session);
 StepResult trainStep(TrainSession& session);
 
 // The water's gradient summed since the last surface step sits partly in the surface, as
-// dL/dheight at its lattice points (engine/water_surface.h): this takes it into the
+// dL/dheight at its lattice points (engine/surface/water_surface.h): this takes it into the
 // parameters' gradient (the MLP's heightGrad, or planeGrad). Needed before anything that
 // lifts the surface again, re-creates it or saves the session; a no-op when nothing is pending.
 void pushWaterGradient(TrainSession& session);

@@ -1,4 +1,4 @@
-// A box BVH (engine/box_bvh.h) for the compute trace backend: the node layout and the slab
+// A box BVH (engine/trace/box_bvh.h) for the compute trace backend: the node layout and the slab
 // test. A traversal (gaussian_kbuffer.glsl, mesh_refract.comp) pops nodes from a stack, tests
 // their boxes against the ray's interval (which shrinks as hits are found) and visits the
 // leaves it meets: what a ray query reports as AABB candidates, in another order.

@@ -1,4 +1,4 @@
-// Records of the Gaussian tracer shaders (GLSL only; host mirrors in engine/gaussian_trace.h).
+// Records of the Gaussian tracer shaders (GLSL only; host mirrors in engine/gaussian/gaussian_trace.h).
 #ifndef REFRAX_GAUSSIAN_TRACE_TYPES_GLSL
 #define REFRAX_GAUSSIAN_TRACE_TYPES_GLSL
 #include "gaussian_math.glsl"
@@ -16,7 +16,7 @@ struct TraceGaussian {
 // kGaussSH.. (coefficient k, channel c at 3k + c) as 12 vec4s.
 const uint kShVec4s = 12u;
 
-// Per-ray forward output (engine/gaussian_trace.h GpuTraceResult).
+// Per-ray forward output (engine/gaussian/gaussian_trace.h GpuTraceResult).
 struct TraceResult {
   vec4 rgbOpacity;
   float depth;          // sum of T_k alpha_k t_k (not normalised)
@@ -25,12 +25,12 @@ struct TraceResult {
   uint rounds;          // k-buffer rounds traced
 };
 
-// The hits a recording forward blended, in order, per ray (engine/gaussian_trace.h
+// The hits a recording forward blended, in order, per ray (engine/gaussian/gaussian_trace.h
 // HitRecords): x = Gaussian id, y = unclamped alpha (float bits). The backward reads them
 // instead of traversing the BVH again.
 #define HitRecord uvec2
 
-// Push constants of the forward and the backward (engine/gaussian_trace.cpp TracePush).
+// Push constants of the forward and the backward (engine/gaussian/gaussian_trace.cpp TracePush).
 #define REFRAX_TRACE_PUSH                                                                            \
   layout(push_constant) uniform Push {                                                               \
     vec4 background;                                                                                 \

@@ -1,4 +1,4 @@
-// Push constants of every height-field shader (mirrored by HeightPush in engine/height_field.cpp),
+// Push constants of every height-field shader (mirrored by HeightPush in engine/height/height_field.cpp),
 // and the specialization constants that carry the network's shape into the loop-based shaders.
 #ifndef REFRAX_HEIGHT_PUSH_GLSL
 #define REFRAX_HEIGHT_PUSH_GLSL

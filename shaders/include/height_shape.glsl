@@ -1,4 +1,4 @@
-// The network's shape as specialization constants (engine/height_field.cpp sets them), and
+// The network's shape as specialization constants (engine/height/height_field.cpp sets them), and
 // the backward scratch layout shared by height_backprop.comp and height_weight_grad*.comp.
 // Weight layer l = 0..HIDDEN (HIDDEN is the linear output layer), row-major [out][in].
 // Scratch, for a chunk of CHUNK points (t = point in chunk), all [t][neuron]:

@@ -1,5 +1,5 @@
 // Refraction at a ray's closest hit on an arbitrary triangle mesh (a surface swapped in for
-// the learned water, engine/mesh_surface.h), shared GLSL/C++ (see shared_prelude.glsl).
+// the learned water, engine/surface/mesh_surface.h), shared GLSL/C++ (see shared_prelude.glsl).
 // Needs snell.glsl. The hit normal is the barycentric interpolation of the triangle's unit
 // vertex normals, renormalised (docs/method.md §1.3), then flipped to face the ray.
 #if defined(__cplusplus) || !defined(REFRAX_MESH_REFRACT_GLSL)

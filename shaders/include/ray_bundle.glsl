@@ -1,4 +1,4 @@
-// Culling for a bundle of rays (the tiled Gaussian forward, engine/tiled_trace.h), shared
+// Culling for a bundle of rays (the tiled Gaussian forward, engine/gaussian/tiled_trace.h), shared
 // GLSL/C++ (see shared_prelude.glsl).
 //
 // A bundle is described by an axis ray (origin, unit dir) and two radii: every point

@@ -1,5 +1,5 @@
 // Ray and hit records shared by the ray-query shaders (std430 layouts mirrored in
-// engine/rays.h). A ray is an origin with its tmin and a direction with its tmax.
+// engine/trace/rays.h). A ray is an origin with its tmin and a direction with its tmax.
 #ifndef REFRAX_RAYS_GLSL
 #define REFRAX_RAYS_GLSL
 struct Ray {

@@ -5,7 +5,7 @@
 //   - functions from GLSL/GLM only: dot cross normalize length min max clamp sqrt exp
 //     abs mix floor fract sin cos ... (the C++ wrappers bring them in with `using`)
 //   - out/inout parameters as OUT(real3) x / INOUT(real) y; functions marked SHARED_FN
-//   - no include guard in C++: engine/shared_math.h includes such a header twice, inside
+//   - no include guard in C++: engine/base/shared_math.h includes such a header twice, inside
 //     refrax::f32 (real = float, the shaders' precision) and refrax::f64 (the double
 //     reference); in GLSL guard with #ifndef as usual.
 // In GLSL, `real` is float. Shaders include the header directly.

@@ -7,7 +7,7 @@
 // several levels or triangles has one height.
 //
 // Triangles. Cell (i, j) of a level is split along its (0,0)-(1,1) diagonal into side 0 =
-// corners (0,0),(1,0),(1,1) and side 1 = (0,0),(1,1),(0,1) (engine/grid_mesh.h's (a,b,d) and
+// corners (0,0),(1,0),(1,1) and side 1 = (0,0),(1,1),(0,1) (engine/surface/grid_mesh.h's (a,b,d) and
 // (a,d,c)). Splitting a triangle at its edge midpoints gives four triangles of the next
 // level's lattice with the same diagonal direction, so every level is the same regular
 // triangulation at half the spacing and a triangle is (level, i, j, side).

@@ -1,4 +1,4 @@
-// Per-ray record of the water-surface stage (std430, mirrored in engine/surface_record.h):
+// Per-ray record of the water-surface stage (std430, mirrored in engine/surface/surface_record.h):
 // which triangle the ray ended on and where, and what happened to it.
 #ifndef REFRAX_SURFACE_RECORD_GLSL
 #define REFRAX_SURFACE_RECORD_GLSL

@@ -1,5 +1,5 @@
 // Binding 0 of the Gaussian tracer's shaders: the proxies' acceleration structure, or with the
-// compute trace backend (REFRAX_COMPUTE_TRACE, engine/vk_context.h TraceBackend) their box BVH.
+// compute trace backend (REFRAX_COMPUTE_TRACE, engine/vk/vk_context.h TraceBackend) their box BVH.
 // The including shader enables GL_EXT_ray_query unless REFRAX_COMPUTE_TRACE is defined.
 #ifndef REFRAX_TRACE_SCENE_GLSL
 #define REFRAX_TRACE_SCENE_GLSL

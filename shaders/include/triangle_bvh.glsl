@@ -1,4 +1,4 @@
-// The closest triangle along a ray through a triangle BVH (engine/box_bvh.h, leaf k = triangle
+// The closest triangle along a ray through a triangle BVH (engine/trace/box_bvh.h, leaf k = triangle
 // k): the compute trace backend's stand-in for a ray query's closest hit. The includer declares
 // bvhNodes (box_bvh.glsl), indices[] (3 per triangle) and vec3 positionAt(uint vertex).
 #ifndef REFRAX_TRIANGLE_BVH_GLSL

@@ -1,0 +1,184 @@
+#include "engine/gaussian/densify.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "engine/base/error.h"
+#include "engine/gaussian/gaussian_math.h"
+
+namespace refrax {
+namespace {
+
+bool stepCondition(uint32_t step, uint32_t from, uint32_t until, uint32_t interval) {
+  return step >= from && step <= until && interval > 0 && step % interval == 0;
+}
+
+double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
+double logit(double p) { return std::log(p / (1.0 - p)); }
+
+float largestSigma(const float* g) {
+  const float* s = g + f32::kGaussLogScale;
+  return std::exp(std::max(s[0], std::max(s[1], s[2])));
+}
+
+// Standard normal from 2 x 24 random bits (Box-Muller): the same numbers on every standard
+// library, unlike std::normal_distribution.
+double standardNormal(std::mt19937& rng) {
+  double u1 = (double(rng() >> 8) + 0.5) / 16777216.0;  // (0, 1)
+  double u2 = double(rng() >> 8) / 16777216.0;          // [0, 1)
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+}
+
+// A child of a split: mean drawn from N(mean, R S^2 R^T), sigmas divided by `divisor`.
+void writeSplitChild(const float* parent, float* child, double divisor, std::mt19937& rng) {
+  std::copy(parent, parent + kGaussianFloats, child);
+  const float* q = parent + f32::kGaussRotation;
+  glm::dmat3 R = f64::rotationOf(glm::dvec4(q[0], q[1], q[2], q[3]));
+  glm::dvec3 local;
+  for (int a = 0; a < 3; a++) local[a] = standardNormal(rng) * std::exp(double(parent[f32::kGaussLogScale + a]));
+  glm::dvec3 offset = R * local;
+  for (int a = 0; a < 3; a++) {
+    child[f32::kGaussMean + a] = float(double(parent[f32::kGaussMean + a]) + offset[a]);
+    child[f32::kGaussLogScale + a] = float(double(parent[f32::kGaussLogScale + a]) - std::log(divisor));
+  }
+}
+
+}  // namespace
+
+void validateDensifyConfig(const DensifyConfig& c) {
+  if (!(c.sceneExtent > 0) || !std::isfinite(c.sceneExtent)) fail("densify: the scene extent must be positive");
+  if (c.densifyInterval == 0 || c.pruneInterval == 0 || c.resetInterval == 0 || c.decayInterval == 0)
+    fail("densify: every interval must be at least 1 step");
+  if (!(c.gradThreshold > 0) || !(c.percentDense > 0) || !(c.pruneLargeFraction > 0))
+    fail("densify: the gradient threshold, percentDense and pruneLargeFraction must be positive");
+  if (!(c.splitScaleDivisor > 1)) fail("densify: splitScaleDivisor must exceed 1 (children smaller than the parent)");
+  if (!(c.minDensity >= 0 && c.minDensity < 1)) fail("densify: minDensity must be in [0, 1)");
+  if (!(c.resetDensity > 0 && c.resetDensity < 1)) fail("densify: resetDensity must be in (0, 1)");
+  if (!(c.decayFactor > 0 && c.decayFactor <= 1)) fail("densify: decayFactor must be in (0, 1]");
+  if (c.maxGaussians == 0) fail("densify: maxGaussians must be at least 1");
+}
+
+bool densifyDue(const DensifyConfig& c, uint32_t step) { return stepCondition(step, c.densifyFrom, c.densifyUntil, c.densifyInterval); }
+bool pruneDue(const DensifyConfig& c, uint32_t step) { return stepCondition(step, c.pruneFrom, c.pruneUntil, c.pruneInterval); }
+bool densityResetDue(const DensifyConfig& c, uint32_t step) { return stepCondition(step, c.resetFrom, c.resetUntil, c.resetInterval); }
+bool densityDecayDue(const DensifyConfig& c, uint32_t step) { return stepCondition(step, c.decayFrom, c.decayUntil, c.decayInterval); }
+
+float densifyStatistic(const std::vector<float>& stats, size_t i) {
+  float hits = stats[2 * i + 1];
+  return hits > 0 ? stats[2 * i] / hits : 0.0f;
+}
+
+DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const DensifyConfig& config, uint32_t step,
+                     std::mt19937& rng, std::vector<uint32_t>& rowMap) {
+  auto start = std::chrono::steady_clock::now();
+  validateDensifyConfig(config);
+  const size_t n = set.count();
+  if (set.params.size() != n * kGaussianFloats) fail("densify: parameter count is not a multiple of " + std::to_string(kGaussianFloats));
+  if (stats.size() != 2 * n)
+    fail("densify: " + std::to_string(stats.size()) + " statistics for " + std::to_string(n) + " Gaussians (2 per Gaussian expected)");
+  DensifyStats out;
+  out.before = uint32_t(n);
+
+  // 0 keep, 1 pruned (low density), 2 pruned (too large), 3 split (replaced by children).
+  std::vector<uint8_t> fate(n, 0);
+  if (pruneDue(config, step)) {
+    const double minLogit = config.minDensity > 0 ? logit(config.minDensity) : -INFINITY;
+    const bool pruneLarge = step >= config.pruneLargeFromStep;
+    const float largeLimit = config.pruneLargeFraction * config.sceneExtent;
+    for (size_t i = 0; i < n; i++) {
+      const float* g = set.at(i);
+      if (double(g[f32::kGaussLogitDensity]) < minLogit) fate[i] = 1, out.prunedLowDensity++;
+      else if (pruneLarge && largestSigma(g) > largeLimit) fate[i] = 2, out.prunedLarge++;
+    }
+  }
+  size_t count = n - out.prunedLowDensity - out.prunedLarge;
+
+  std::vector<uint32_t> clones, splits;
+  if (densifyDue(config, step)) {
+    std::vector<uint32_t> candidates;
+    for (size_t i = 0; i < n; i++)
+      if (fate[i] == 0 && densifyStatistic(stats, i) >= config.gradThreshold) candidates.push_back(uint32_t(i));
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [&](uint32_t a, uint32_t b) { return densifyStatistic(stats, a) > densifyStatistic(stats, b); });
+    const float cloneLimit = config.percentDense * config.sceneExtent;
+    for (uint32_t i : candidates) {
+      if (count + 1 > config.maxGaussians) {  // a clone and a split both add one row
+        out.cappedOut++;
+        continue;
+      }
+      count++;
+      if (largestSigma(set.at(i)) <= cloneLimit) clones.push_back(i);
+      else splits.push_back(i), fate[i] = 3;
+    }
+    std::sort(clones.begin(), clones.end());
+    std::sort(splits.begin(), splits.end());
+  }
+  out.cloned = uint32_t(clones.size());
+  out.split = uint32_t(splits.size());
+
+  GaussianSet next;
+  next.params.reserve(count * kGaussianFloats);
+  rowMap.clear();
+  rowMap.reserve(count);
+  for (size_t i = 0; i < n; i++)
+    if (fate[i] == 0) {
+      next.params.insert(next.params.end(), set.at(i), set.at(i) + kGaussianFloats);
+      rowMap.push_back(uint32_t(i));
+    }
+  for (uint32_t i : clones) {
+    next.params.insert(next.params.end(), set.at(i), set.at(i) + kGaussianFloats);
+    rowMap.push_back(kNewRow);
+  }
+  for (uint32_t i : splits)
+    for (int c = 0; c < 2; c++) {
+      next.params.resize(next.params.size() + kGaussianFloats);
+      writeSplitChild(set.at(i), next.params.data() + next.params.size() - kGaussianFloats, config.splitScaleDivisor, rng);
+      rowMap.push_back(kNewRow);
+    }
+  set = std::move(next);
+  out.after = uint32_t(set.count());
+  out.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+DensifyStats densify(Context& ctx, DeviceGaussians& dev, GaussianSet& host, const Buffer& stats, const DensifyConfig& config,
+                     uint32_t step, std::mt19937& rng, std::vector<uint32_t>& rowMap) {
+  if (stats.size < sizeof(float) * 2 * size_t(dev.count))
+    fail("densify: the statistics buffer holds fewer than 2 floats per Gaussian (" + std::to_string(dev.count) + " Gaussians)");
+  host = downloadGaussians(ctx, dev);
+  std::vector<float> hostStats = downloadVector<float>(ctx, stats, 2 * size_t(dev.count));
+  DensifyStats out = densify(host, hostStats, config, step, rng, rowMap);
+  bool identity = out.after == out.before;
+  for (size_t i = 0; identity && i < rowMap.size(); i++) identity = rowMap[i] == i;
+  if (!identity) {
+    if (host.count() == 0) fail("densify: every Gaussian was pruned (nothing left to train)");
+    dev = uploadGaussians(ctx, host);
+  }
+  return out;
+}
+
+void densityReset(GaussianSet& set, const DensifyConfig& config) {
+  validateDensifyConfig(config);
+  const float limit = float(logit(config.resetDensity));
+  for (size_t i = 0; i < set.count(); i++) {
+    float& x = set.at(i)[f32::kGaussLogitDensity];
+    x = std::min(x, limit);
+  }
+}
+
+void densityDecay(GaussianSet& set, const DensifyConfig& config) {
+  validateDensifyConfig(config);
+  if (config.decayFactor == 1.0f) return;  // the identity, even for logits too large for the formula below
+  for (size_t i = 0; i < set.count(); i++) {
+    float& x = set.at(i)[f32::kGaussLogitDensity];
+    // logit(f p), p = sigmoid(x), as log(f p) - log(1 - f p) with 1 - f p = sigmoid(-x) + (1 - f) p,
+    // so neither a large nor a very negative logit loses its value to rounding.
+    const double xd = x, f = config.decayFactor;
+    const double logP = xd >= 0 ? -std::log1p(std::exp(-xd)) : xd - std::log1p(std::exp(xd));
+    x = float(std::log(f) + logP - std::log(sigmoid(-xd) + (1.0 - f) * sigmoid(xd)));
+  }
+}
+
+}  // namespace refrax

@@ -1,0 +1,43 @@
+#include "engine/gaussian/water_removal.h"
+
+#include "engine/base/error.h"
+#include "engine/vk/vk_commands.h"
+
+namespace refrax {
+
+Camera cameraFromFly(const FlyCamera& cam, int width, int height) {
+  if (width <= 0 || height <= 0) fail("camera with an empty image");
+  if (!(cam.tanHalfFovY > 0)) fail("camera with a non-positive field of view");
+  CameraBasis b = cameraBasis(cam);
+  Camera c;
+  c.cameraToWorld[0] = glm::dvec4(glm::dvec3(b.right), 0.0);
+  c.cameraToWorld[1] = glm::dvec4(glm::dvec3(b.up), 0.0);
+  c.cameraToWorld[2] = glm::dvec4(-glm::dvec3(b.forward), 0.0);
+  c.cameraToWorld[3] = glm::dvec4(glm::dvec3(cam.position), 1.0);
+  c.fy = 0.5 * height / double(cam.tanHalfFovY);
+  c.fx = c.fy;
+  c.cx = 0.5 * width;
+  c.cy = 0.5 * height;
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+std::vector<GpuTraceResult> renderWithoutWater(Context& ctx, GaussianTracer& tracer, const CameraRayPipelines& cameraRays,
+                                               const GaussianProxies& proxies, const DeviceGaussians& gaussians, const Camera& camera,
+                                               const TraceOptions& options, std::vector<GpuRay>* rays) {
+  const uint32_t count = uint32_t(camera.width) * uint32_t(camera.height);
+  if (count == 0) fail("render without water: the camera has no pixels");
+  Buffer rayBuf = createBuffer(ctx, VkDeviceSize(count) * sizeof(GpuRay));
+  Buffer results = createBuffer(ctx, VkDeviceSize(count) * sizeof(GpuTraceResult));
+  fillBuffer(ctx, results, 0x7FC00000u);  // NaN: a pixel the tracer did not write shows
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdCameraRays(cb, cameraRays, camera, rayBuf, 0.0f, 1e6f);
+    cmdBarrier(cb);
+    cmdTraceForward(cb, tracer, proxies, gaussians, rayBuf, results, count, options);
+  });
+  if (rays) *rays = downloadVector<GpuRay>(ctx, rayBuf, count);
+  return downloadVector<GpuTraceResult>(ctx, results, count);
+}
+
+}  // namespace refrax

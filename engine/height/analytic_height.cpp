@@ -1,0 +1,51 @@
+#include "engine/height/analytic_height.h"
+
+#include "engine/surface/surface_math.h"
+#include "engine/vk/vk_buffer.h"
+
+namespace refrax {
+
+AnalyticWaves randomWaves(std::mt19937& rng, float amplitude, float maxWaveNumber) {
+  std::uniform_real_distribution<float> U(0.0f, 1.0f);
+  AnalyticWaves w;
+  w.base = 0.1f * (U(rng) - 0.5f);
+  for (auto& k : w.waves) {
+    k[0] = amplitude * (0.3f + 0.7f * U(rng)) / 4.0f;
+    k[1] = maxWaveNumber * (2 * U(rng) - 1);
+    k[2] = maxWaveNumber * (2 * U(rng) - 1);
+    k[3] = 6.2831853f * U(rng);
+  }
+  return w;
+}
+
+double analyticHeightRef(const AnalyticWaves& w, double x, double y) {
+  auto wave = [&](int k) { return glm::dvec4(w.waves[k][0], w.waves[k][1], w.waves[k][2], w.waves[k][3]); };
+  return f64::analyticHeight(x, y, double(w.base), wave(0), wave(1), wave(2), wave(3));
+}
+
+AnalyticHeightField createAnalyticHeightField(Context& ctx, const AnalyticWaves& waves) {
+  AnalyticHeightField f;
+  f.waves = waves;
+  f.pipeline = createComputePipeline(ctx, "analytic_heights", {kStorageBuffer, kStorageBuffer}, 72);
+  return f;
+}
+
+HeightSource heightSource(const AnalyticHeightField& field) {
+  HeightSource s;
+  s.evaluate = [&field](VkCommandBuffer cb, const Buffer& points, uint32_t count, Buffer& heights) {
+    if (count == 0) return;
+    struct {
+      float waves[4][4];
+      float base;
+      uint32_t count;
+    } push{};
+    for (int k = 0; k < 4; k++)
+      for (int c = 0; c < 4; c++) push.waves[k][c] = field.waves.waves[k][c];
+    push.base = field.waves.base;
+    push.count = count;
+    cmdDispatch(cb, field.pipeline, {bind(points), bind(heights)}, &push, groupsFor(count, 64));
+  };
+  return s;
+}
+
+}  // namespace refrax

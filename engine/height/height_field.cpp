@@ -1,0 +1,146 @@
+// Height field on the device: weights, kernel choice, forward and backward recording.
+#include "engine/height/height_field.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+#include "engine/base/error.h"
+#include "engine/height/height_field_kernels.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
+#include "engine/vk/vk_profile.h"
+
+namespace refrax {
+
+namespace {
+
+// Points summed by one weight-gradient invocation: long enough to keep the atomics few,
+// short enough to give a GPU thousands of invocations per chunk.
+constexpr uint32_t kGradientSlice = 256;
+// Backward scratch budget (floats): the chunk is as many points as fit.
+constexpr uint64_t kScratchFloats = uint64_t(8) << 20;
+
+uint64_t scratchFloatsPerPoint(const HeightFieldConfig& c) {
+  return heightInputCount(c) + 2ull * c.hiddenLayers * c.width + 1;
+}
+
+void requireBytes(const Buffer& b, uint64_t bytes, const char* what, const char* call) {
+  if (!b) fail(std::string(call) + ": the " + what + " buffer is missing");
+  if (b.size < bytes)
+    fail(std::string(call) + ": the " + what + " buffer holds " + std::to_string(b.size) + " bytes, " + std::to_string(bytes) +
+         " are needed");
+}
+
+HeightPush basePush(const HeightField& hf) {
+  HeightPush p{};
+  for (int a = 0; a < 2; a++) {
+    p.domainMin[a] = hf.config.domainMin[a];
+    p.domainMax[a] = hf.config.domainMax[a];
+  }
+  p.initialHeight = hf.config.initialHeight;
+  p.octaveWindow = heightOctaveWindow(hf.config);
+  p.chunk = hf.backwardChunk;
+  p.slice = kGradientSlice;
+  return p;
+}
+
+}  // namespace
+
+HeightField createHeightField(Context& ctx, const HeightFieldConfig& config, uint32_t seed) {
+  validateHeightFieldConfig(config);
+  HeightField hf;
+  hf.ctx = &ctx;
+  hf.config = config;
+  hf.inputCount = heightInputCount(config);
+  hf.parameterCount = heightParameterCount(config);
+  hf.weights = createBuffer(ctx, hf.parameterCount * sizeof(float));
+  std::vector<float> w = initialHeightWeights(config, seed);
+  upload(ctx, hf.weights, w.data(), w.size() * sizeof(float));
+  uint64_t perPoint = scratchFloatsPerPoint(config);
+  uint64_t chunk = std::max<uint64_t>(64, std::min<uint64_t>(65536, kScratchFloats / perPoint) / 64 * 64);
+  hf.backwardChunk = uint32_t(chunk);
+  hf.scratch = createBuffer(ctx, chunk * perPoint * sizeof(float));
+  fillBuffer(ctx, hf.scratch, 0);  // rows past a chunk's count are read (and multiplied by zero): keep them finite
+  hf.pipelines = std::make_shared<HeightFieldPipelines>();
+  return hf;
+}
+
+std::string HeightField::forwardKernelName() const { return heightForwardKernelName(*this); }
+
+void cmdEvaluateHeights(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, uint32_t count, const Buffer& heights) {
+  if (!hf.ctx || !hf.pipelines) fail("cmdEvaluateHeights: the height field was not created");
+  if (count == 0) return;
+  requireBytes(points, uint64_t(count) * 8, "points", "cmdEvaluateHeights");
+  requireBytes(heights, uint64_t(count) * 4, "heights", "cmdEvaluateHeights");
+  HeightPush push = basePush(hf);
+  cmdHeightForward(cb, hf, push, points, count, heights);
+}
+
+void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, const Buffer& dLossdHeight,
+                                  uint32_t count, const Buffer& dLossdWeights) {
+  if (!hf.ctx || !hf.pipelines) fail("cmdAccumulateHeightGradients: the height field was not created");
+  if (count == 0) return;
+  const char* call = "cmdAccumulateHeightGradients";
+  requireBytes(points, uint64_t(count) * 8, "points", call);
+  requireBytes(dLossdHeight, uint64_t(count) * 4, "dLossdHeight", call);
+  requireBytes(dLossdWeights, hf.parameterCount * 4, "dLossdWeights", call);
+  const HeightBackpropKernel backprop = heightBackpropKernel(hf);
+  const bool useTiles = heightGradTilesAvailable(hf);
+  HeightPush push = basePush(hf);
+  cmdBarrier(cb);  // earlier recorded work (a layered forward) may still use the scratch
+  const uint32_t maxGroups = hf.ctx->properties.limits.maxComputeWorkGroupCount[0];
+  for (uint32_t first = 0; first < count; first += hf.backwardChunk) {
+    if (first > 0) cmdBarrier(cb);  // the previous chunk's gradient pass has read the scratch
+    push.first = first;
+    push.count = std::min(hf.backwardChunk, count - first);
+    cmdDispatch(cb, *backprop.pipeline, {bind(hf.weights), bind(points), bind(dLossdHeight), bind(hf.scratch)}, &push,
+                groupsFor(push.count, backprop.groupSize));
+    cmdBarrier(cb);
+    profileStage(cb, *hf.ctx, "height backward: activations and deltas");
+    if (useTiles) {
+      cmdHeightGradTiles(cb, hf, push.count, dLossdWeights);
+      profileStage(cb, *hf.ctx, "height backward: weight gradient");
+      continue;
+    }
+    const ComputePipeline& grad = heightWeightGradPipeline(hf);
+    uint32_t slices = groupsFor(push.count, kGradientSlice);
+    uint64_t perDispatch = uint64_t(maxGroups) * 64;
+    for (uint64_t base = 0; base < hf.parameterCount; base += perDispatch) {
+      push.weightBase = uint32_t(base);
+      uint32_t n = uint32_t(std::min<uint64_t>(perDispatch, hf.parameterCount - base));
+      cmdDispatch(cb, grad, {bind(hf.scratch), bind(dLossdWeights)}, &push, groupsFor(n, 64), slices);
+    }
+  }
+}
+
+double warmUpHeightField(HeightField& hf) {
+  if (!hf.ctx || !hf.pipelines) fail("warmUpHeightField: the height field was not created");
+  // lavapipe compiles a pipeline at its first dispatch, not at creation: dispatch both
+  // directions once on one point (into throw-away buffers).
+  auto t0 = std::chrono::steady_clock::now();
+  Context& ctx = *hf.ctx;
+  const HeightFieldConfig& c = hf.config;
+  std::vector<float> point = {0.5f * (c.domainMin[0] + c.domainMax[0]), 0.5f * (c.domainMin[1] + c.domainMax[1])};
+  Buffer pb = createBufferFrom(ctx, point), hb = createBuffer(ctx, 4), gb = createBuffer(ctx, hf.parameterCount * 4);
+  fillBuffer(ctx, gb, 0);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdEvaluateHeights(cb, hf, pb, 1, hb);
+    cmdBarrier(cb);
+    cmdAccumulateHeightGradients(cb, hf, pb, hb, 1, gb);
+  });
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<float> downloadWeights(Context& ctx, const HeightField& hf) {
+  return downloadVector<float>(ctx, hf.weights, hf.parameterCount);
+}
+
+void uploadWeights(Context& ctx, HeightField& hf, const std::vector<float>& weights) {
+  if (weights.size() != hf.parameterCount)
+    fail("uploadWeights: " + std::to_string(weights.size()) + " weights given, the height field has " +
+         std::to_string(hf.parameterCount));
+  upload(ctx, hf.weights, weights.data(), weights.size() * sizeof(float));
+}
+
+}  // namespace refrax

@@ -1,0 +1,64 @@
+#pragma once
+// Internal to the height field: push constants, the lazily created pipelines, and the
+// forward kernel choice (generated straight-line kernels where the build has one for the
+// configuration, the loop-based one otherwise).
+#include <functional>
+#include <map>
+#include <string>
+
+#include "engine/height/height_field.h"
+#include "engine/vk/vk_pipeline.h"
+
+namespace refrax {
+
+// Mirror of shaders/include/height_push.glsl.
+struct HeightPush {
+  float domainMin[2];
+  float domainMax[2];
+  uint32_t count;
+  uint32_t first;
+  uint32_t chunk;
+  uint32_t slice;
+  float initialHeight;
+  uint32_t weightBase;
+  uint32_t inOffset;
+  uint32_t outOffset;
+  float octaveWindow;
+};
+static_assert(sizeof(HeightPush) == 52, "HeightPush must match height_push.glsl");
+
+struct HeightFieldPipelines {
+  std::map<std::string, ComputePipeline> byName;  // created on first use, kept for the field's life
+};
+
+// Name of the forward kernel the field uses with its current settings (creates nothing).
+std::string heightForwardKernelName(const HeightField& hf);
+// Records the forward for points [0, count) (push.first/count are set here).
+void cmdHeightForward(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
+                      const Buffer& heights);
+
+// The loop-based forward (any shape).
+const ComputePipeline& heightGenericForwardPipeline(const HeightField& hf);
+void cmdHeightForwardGeneric(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
+                             const Buffer& heights);
+
+// Backward pass 1: the generated fused kernel where there is one, else the loop-based one.
+struct HeightBackpropKernel {
+  const ComputePipeline* pipeline;
+  uint32_t groupSize;
+};
+HeightBackpropKernel heightBackpropKernel(const HeightField& hf);
+bool heightShaderEmbedded(const std::string& name);
+const ComputePipeline& heightWeightGradPipeline(const HeightField& hf);
+
+// Backward pass 2 by generated weight-gradient tiles (when the build has them and the device
+// allows): one dispatch per layer over the chunk's `count` points in the scratch.
+bool heightGradTilesAvailable(const HeightField& hf);
+void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, const Buffer& dLossdWeights);
+
+// The pipeline `key` of the field, created by `make` on first use.
+const ComputePipeline& heightPipeline(const HeightField& hf, const std::string& key, const std::function<ComputePipeline()>& make);
+// Specialization constants of the loop-based shaders (height_shape.glsl).
+std::vector<SpecConstant> heightShapeConstants(const HeightFieldConfig& c);
+
+}  // namespace refrax

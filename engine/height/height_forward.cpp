@@ -1,0 +1,126 @@
+// Height field forward: picks the kernel for the configuration (generated straight-line
+// kernels where the build has them and the device's limits allow, the loop-based one
+// otherwise) and records it.
+#include <algorithm>
+#include <cstring>
+
+#include "engine/base/error.h"
+#include "engine/height/height_field_kernels.h"
+#include "engine/height/height_kernel_shapes.h"
+#include "engine/vk/shader_table.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
+
+namespace refrax {
+
+namespace {
+
+enum class ForwardForm { Generic, Fused, Layered };
+
+// Points per layered chunk: two [width][points] activation regions in the scratch, whole workgroups.
+uint32_t layeredChunk(const HeightField& hf) {
+  uint64_t floats = hf.scratch.size / 4;
+  return uint32_t(std::min<uint64_t>(floats / (2ull * hf.config.width), 1u << 20) / kHeightKernelGroup * kHeightKernelGroup);
+}
+
+ForwardForm forwardForm(const HeightField& hf) {
+  const HeightFieldConfig& c = hf.config;
+  const VkPhysicalDeviceLimits& limits = hf.ctx->properties.limits;
+  bool fits = limits.maxComputeWorkGroupInvocations >= kHeightKernelGroup && limits.maxComputeWorkGroupSize[0] >= kHeightKernelGroup &&
+              limits.maxComputeSharedMemorySize >= kHeightStageFloats * 4;
+  if (hf.forceGenericForward || !fits) return ForwardForm::Generic;
+  if (c.width <= kHeightFusedMaxWidth && heightShaderEmbedded(heightFusedKernelName(c.width, c.hiddenLayers, c.octaves))) return ForwardForm::Fused;
+  if (heightShaderEmbedded(heightLayerFirstKernelName(c.width, c.octaves)) && heightShaderEmbedded(heightLayerHiddenKernelName(c.width)) &&
+      heightShaderEmbedded(heightLayerLastKernelName(c.width)) && layeredChunk(hf) > 0)
+    return ForwardForm::Layered;
+  return ForwardForm::Generic;
+}
+
+const ComputePipeline& generatedPipeline(const HeightField& hf, const std::string& name, uint32_t buffers) {
+  return heightPipeline(hf, name, [&] {
+    return createComputePipeline(*hf.ctx, name.c_str(), std::vector<VkDescriptorType>(buffers, kStorageBuffer), sizeof(HeightPush),
+                                  {specFloat(3, hf.config.leakySlope)});
+  });
+}
+
+const ComputePipeline& fusedPipeline(const HeightField& hf) {
+  const HeightFieldConfig& c = hf.config;
+  return generatedPipeline(hf, heightFusedKernelName(c.width, c.hiddenLayers, c.octaves), 3);
+}
+const ComputePipeline& firstPipeline(const HeightField& hf) {
+  return generatedPipeline(hf, heightLayerFirstKernelName(hf.config.width, hf.config.octaves), 3);
+}
+const ComputePipeline& hiddenPipeline(const HeightField& hf) { return generatedPipeline(hf, heightLayerHiddenKernelName(hf.config.width), 2); }
+const ComputePipeline& lastPipeline(const HeightField& hf) { return generatedPipeline(hf, heightLayerLastKernelName(hf.config.width), 4); }
+
+uint32_t maxPointsPerDispatch(const HeightField& hf, uint32_t group) {
+  return uint32_t(std::min<uint64_t>(uint64_t(hf.ctx->properties.limits.maxComputeWorkGroupCount[0]) * group, 1u << 30));
+}
+
+void cmdFused(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count, const Buffer& heights) {
+  const ComputePipeline& p = fusedPipeline(hf);
+  uint32_t perDispatch = maxPointsPerDispatch(hf, kHeightKernelGroup);
+  for (uint32_t first = 0; first < count; first += perDispatch) {
+    push.first = first;
+    push.count = std::min(perDispatch, count - first);
+    cmdDispatch(cb, p, {bind(hf.weights), bind(points), bind(heights)}, &push, groupsFor(push.count, kHeightKernelGroup));
+  }
+}
+
+// Layer by layer through two activation regions of the scratch, a chunk of points at a time.
+void cmdLayered(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count, const Buffer& heights) {
+  const HeightFieldConfig& c = hf.config;
+  const uint32_t W = c.width, I = hf.inputCount, G = heightLayerGroupOutputs(W), chunk = layeredChunk(hf);
+  const ComputePipeline &first = firstPipeline(hf), &hidden = hiddenPipeline(hf), &last = lastPipeline(hf);
+  push.chunk = chunk;
+  cmdBarrier(cb);  // earlier recorded work may still read the scratch
+  for (uint32_t start = 0; start < count; start += chunk) {
+    if (start > 0) cmdBarrier(cb);
+    push.first = start;
+    push.count = std::min(chunk, count - start);
+    uint32_t groups = groupsFor(push.count, kHeightKernelGroup);
+    uint32_t in = 0, out = W * chunk;
+    for (uint32_t j0 = 0; j0 < W; j0 += G) {
+      push.weightBase = j0 * I;
+      push.outOffset = j0 * chunk;
+      cmdDispatch(cb, first, {bind(hf.weights), bind(points), bind(hf.scratch)}, &push, groups);
+    }
+    for (uint32_t l = 1; l < c.hiddenLayers; l++) {
+      cmdBarrier(cb);
+      uint32_t layerBase = W * I + (l - 1) * W * W;
+      for (uint32_t j0 = 0; j0 < W; j0 += G) {
+        push.weightBase = layerBase + j0 * W;
+        push.inOffset = in;
+        push.outOffset = out + j0 * chunk;
+        cmdDispatch(cb, hidden, {bind(hf.weights), bind(hf.scratch)}, &push, groups);
+      }
+      std::swap(in, out);
+    }
+    cmdBarrier(cb);
+    push.weightBase = W * I + (c.hiddenLayers - 1) * W * W;
+    push.inOffset = in;
+    cmdDispatch(cb, last, {bind(hf.weights), bind(points), bind(hf.scratch), bind(heights)}, &push, groups);
+  }
+}
+
+}  // namespace
+
+std::string heightForwardKernelName(const HeightField& hf) {
+  const HeightFieldConfig& c = hf.config;
+  switch (forwardForm(hf)) {
+    case ForwardForm::Fused: return heightFusedKernelName(c.width, c.hiddenLayers, c.octaves);
+    case ForwardForm::Layered: return "height_layer_*_w" + std::to_string(c.width);
+    default: return "height_forward_generic";
+  }
+}
+
+void cmdHeightForward(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
+                      const Buffer& heights) {
+  switch (forwardForm(hf)) {
+    case ForwardForm::Fused: cmdFused(cb, hf, push, points, count, heights); break;
+    case ForwardForm::Layered: cmdLayered(cb, hf, push, points, count, heights); break;
+    default: cmdHeightForwardGeneric(cb, hf, push, points, count, heights);
+  }
+}
+
+}  // namespace refrax

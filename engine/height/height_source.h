@@ -1,0 +1,23 @@
+#pragma once
+// How the water surface asks for heights: evaluate H at a list of points, and push
+// dLoss/dheight at a list of points back into H's parameters. The MLP height field
+// (engine/height/height_field.h) and the closed-form test surface (engine/height/analytic_height.h) both
+// provide one, so the surface geometry does not depend on which H it lifts.
+#include <volk.h>
+
+#include <cstdint>
+#include <functional>
+
+namespace refrax {
+
+struct Buffer;
+
+struct HeightSource {
+  // heights[k] = H(points[k]) for k < count (points: float2, heights: float).
+  std::function<void(VkCommandBuffer, const Buffer& points, uint32_t count, Buffer& heights)> evaluate;
+  // Adds sum_k dLoss/dheight[k] * dH(points[k])/dparams to the source's gradient; empty
+  // for sources without parameters.
+  std::function<void(VkCommandBuffer, const Buffer& points, const Buffer& dLossdHeight, uint32_t count)> accumulateGradients;
+};
+
+}  // namespace refrax

@@ -1,0 +1,442 @@
+#include "engine/surface/water_surface.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <memory>
+
+#include "engine/base/error.h"
+#include "engine/surface/grid_mesh.h"
+#include "engine/vk/vk_commands.h"
+#include "engine/vk/vk_context.h"
+#include "engine/vk/vk_profile.h"
+#include "engine/vk/vk_timer.h"
+
+namespace refrax {
+
+namespace {
+
+// Mirror of the push block in shaders/include/surface_lattice.glsl.
+struct SurfacePush {
+  float origin[2];
+  float spacing[2];
+  int32_t cellsX, cellsY, levels;
+  uint32_t latticeStride;
+  uint32_t count;
+  int32_t level;
+  float eta;
+  uint32_t options;
+  uint32_t pointCapacity;
+  uint32_t mode;
+  uint32_t pad0, pad1;
+};
+static_assert(sizeof(SurfacePush) == 64, "SurfacePush must match the GLSL push block");
+
+constexpr uint32_t kOptionFaceNormals = 1u;
+constexpr uint32_t kOptionHitNormals = 2u;
+constexpr uint32_t kCounterCount = 8;
+
+// Points one ray can ask for: 3 edge midpoints per level, then its finest triangle's 3
+// corners with their 6 neighbours each.
+uint32_t insertsPerRay(uint32_t levels) { return levels == 0 ? 0 : 3 * levels + 21; }
+
+SurfacePush basePush(const WaterSurface& ws) {
+  SurfacePush p{};
+  p.origin[0] = ws.config.domain.x0;
+  p.origin[1] = ws.config.domain.y0;
+  p.spacing[0] = ws.spacingX;
+  p.spacing[1] = ws.spacingY;
+  p.cellsX = int32_t(ws.cellsX);
+  p.cellsY = int32_t(ws.cellsY);
+  p.levels = int32_t(ws.config.subdivisionLevels);
+  p.eta = 1.0f / ws.config.ior;
+  p.options = (ws.config.faceNormals ? kOptionFaceNormals : 0u) | (ws.config.keepHitNormals ? kOptionHitNormals : 0u);
+  p.pointCapacity = ws.pointCapacity;
+  p.latticeStride = ws.latticeStride;
+  return p;
+}
+
+void checkBuffer(const Buffer& b, VkDeviceSize bytes, const char* what) {
+  if (!b || b.size < bytes)
+    fail(std::string("water surface: the ") + what + " buffer holds " + std::to_string(b ? b.size : 0) + " bytes, " +
+         std::to_string(bytes) + " needed");
+}
+
+}  // namespace
+
+WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, bool forceCasAtomics) {
+  const SurfaceDomain& d = config.domain;
+  if (!std::isfinite(d.x0) || !std::isfinite(d.y0) || !std::isfinite(d.x1) || !std::isfinite(d.y1) || !(d.x1 > d.x0) ||
+      !(d.y1 > d.y0))
+    fail("water surface domain [" + std::to_string(d.x0) + ", " + std::to_string(d.x1) + "] x [" + std::to_string(d.y0) + ", " +
+         std::to_string(d.y1) + "] is empty or inverted");
+  if (config.gridCells == 0) fail("water surface needs at least one grid cell");
+  if (config.subdivisionLevels > 12) fail("water surface subdivision levels must be at most 12");
+  if ((uint64_t(config.gridCells) << config.subdivisionLevels) + 3 >= 65535)
+    fail("water surface: grid cells x 2^levels must stay below 65532 (the finest lattice is addressed with 16 bits)");
+  if (!(config.ior > 0.0f) || !std::isfinite(config.ior)) fail("water surface IOR must be a positive number");
+  if (config.maxRays == 0) fail("water surface maxRays must be positive");
+
+  WaterSurface ws;
+  ws.ctx = &ctx;
+  ws.config = config;
+  ws.cellsX = ws.cellsY = config.gridCells;
+  const uint32_t K = config.subdivisionLevels;
+  ws.spacingX = (d.x1 - d.x0) / float(ws.cellsX << K);
+  ws.spacingY = (d.y1 - d.y0) / float(ws.cellsY << K);
+  ws.gridPointCount = (ws.cellsX + 3) * (ws.cellsY + 3);
+
+  ws.gridPoints = createBuffer(ctx, VkDeviceSize(ws.gridPointCount) * 8);
+  ws.gridHeights = createBuffer(ctx, VkDeviceSize(ws.gridPointCount) * 4);
+  ws.gridGrad = createBuffer(ctx, VkDeviceSize(ws.gridPointCount) * 4);
+
+  // Topology from the grid mesh (Morton cell order); xy and z are written on the GPU.
+  GridMesh mesh = makeGridMesh(ws.cellsX, ws.cellsY, d.x0, d.y0, d.x1, d.y1);
+  ws.vertices = createBufferFrom(ctx, mesh.vertices, kAccelInput);
+  ws.indices = createBufferFrom(ctx, mesh.indices, kAccelInput);
+  ws.cellOrder = createBufferFrom(ctx, mesh.cellOrder);
+  const bool compute = ctx.trace == TraceBackend::Compute;
+  if (compute) {
+    ws.heightRange = createBuffer(ctx, 8);
+  } else {
+    ws.blas = createTriangleBlas(ctx, ws.vertices, mesh.vertexCount(), 12, ws.indices, mesh.triangleCount(), {true});
+    ws.top = createTopLevel(ctx, {makeInstance(ws.blas, 0)}, {true});
+  }
+
+  ws.latticeStride = (ws.cellsX << K) + 3;
+  ws.latticePoints = uint64_t(ws.latticeStride) * uint64_t((ws.cellsY << K) + 3);
+  if (K > 0 && ws.latticePoints > (uint64_t(1) << 27))
+    fail("water surface: the finest lattice ((cells << levels) + 3)^2 = " + std::to_string(ws.latticePoints) +
+         " points exceeds 2^27; use fewer cells or levels");
+  // Room for one trace of maxRays rays, and for the whole lattice where that is no more than
+  // 4M points (112 MB of tables): the cache then never has to be emptied within a surface step.
+  uint64_t inserts = std::min<uint64_t>(std::max<uint64_t>(uint64_t(config.maxRays) * insertsPerRay(K), uint64_t(1) << 22), ws.latticePoints);
+  ws.pointCapacity = uint32_t(std::max<uint64_t>(inserts, 1));
+  ws.latticeIndex = createBuffer(ctx, K > 0 ? ws.latticePoints * 4 : 4);
+  ws.points = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 8);
+  ws.pointHeights = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 4);
+  ws.pointGrad = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 4);
+  ws.evalPoints = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 8);
+  ws.evalHeights = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 4);
+  ws.counters = createBuffer(ctx, kCounterCount * 4);
+  ws.pushPoints = createBuffer(ctx, (VkDeviceSize(ws.gridPointCount) + ws.pointCapacity) * 8);
+  ws.pushGrads = createBuffer(ctx, (VkDeviceSize(ws.gridPointCount) + ws.pointCapacity) * 4);
+  ws.pushCount = createBuffer(ctx, 4);
+  ws.hitNormals = createBuffer(ctx, config.keepHitNormals ? VkDeviceSize(config.maxRays) * 64 : 64);
+
+  SurfacePipelines& p = ws.pipelines;
+  const uint32_t push = sizeof(SurfacePush);
+  auto B = kStorageBuffer;
+  p.gridPoints = createComputePipeline(ctx, "surface_grid_points", {B}, push);
+  p.gridVertices = createComputePipeline(ctx, "surface_grid_vertices", {B, B}, push);
+  if (compute) {
+    p.globalTrace = createComputePipeline(ctx, "surface_global_trace_compute", {B, B, B, B, B, B}, push);
+    p.heightRange = createComputePipeline(ctx, "surface_height_range", {B, B}, 4);
+  } else {
+    p.globalTrace = createComputePipeline(ctx, "surface_global_trace", {kAccelStruct, B, B, B, B}, push);
+  }
+  p.requestPoints = createComputePipeline(ctx, "surface_request_points", {B, B, B, B}, push);
+  p.subdivide = createComputePipeline(ctx, "surface_subdivide", {B, B, B, B, B, B}, push);
+  p.refract = createComputePipeline(ctx, "surface_refract", {B, B, B, B, B, B, B, B}, push);
+  ws.floatAtomics = ctx.caps.floatAtomicAdd && !forceCasAtomics;
+  p.backward = createComputePipeline(ctx, ws.floatAtomics ? "surface_backward" : "surface_backward_cas", {B, B, B, B, B, B, B, B, B}, push);
+  p.compact = createComputePipeline(ctx, "surface_compact_gradients", {B, B, B, B, B}, 4);
+
+  SurfacePush pc = basePush(ws);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdDispatch(cb, p.gridPoints, {bind(ws.gridPoints)}, &pc, groupsFor(ws.gridPointCount, 64));
+    vkCmdFillBuffer(cb, ws.counters.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, ws.latticeIndex.buffer, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+  });
+  return ws;
+}
+
+namespace {
+// Empties the point cache: every lattice point unrequested, none counted.
+void cmdClearPointCache(VkCommandBuffer cb, WaterSurface& ws) {
+  vkCmdFillBuffer(cb, ws.latticeIndex.buffer, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+  vkCmdFillBuffer(cb, ws.counters.buffer, 0, 4, 0);
+  ws.cachedPoints = 0;
+}
+}  // namespace
+
+bool surfaceCacheHasRoom(const WaterSurface& ws, uint32_t rays) {
+  // A table the size of the lattice holds every point there is.
+  return ws.pointCapacity >= ws.latticePoints ||
+         uint64_t(ws.cachedPoints) + uint64_t(rays) * insertsPerRay(ws.config.subdivisionLevels) <= ws.pointCapacity;
+}
+
+void cmdUpdateSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights) {
+  // The cached points' heights and the pending gradient belong to the heights being replaced.
+  if (ws.gradientPending)
+    fail("water surface: cmdUpdateSurface with a pending height gradient (cmdPushSurfaceGradients first)");
+  static std::atomic<uint64_t> versions{0};
+  ws.heightsVersion = ++versions;
+  cmdClearPointCache(cb, ws);
+  cmdBarrier(cb);
+  SurfacePush pc = basePush(ws);
+  heights.evaluate(cb, ws.gridPoints, ws.gridPointCount, ws.gridHeights);
+  cmdBarrier(cb);
+  uint32_t vertexCount = (ws.cellsX + 1) * (ws.cellsY + 1);
+  cmdDispatch(cb, ws.pipelines.gridVertices, {bind(ws.gridHeights), bind(ws.vertices)}, &pc, groupsFor(vertexCount, 64));
+  cmdBarrier(cb);
+  if (ws.heightRange) {  // compute backend: the walk's height slab instead of a BVH
+    const uint32_t range[2] = {0xFFFFFFFFu, 0u};
+    vkCmdUpdateBuffer(cb, ws.heightRange.buffer, 0, sizeof(range), range);
+    cmdBarrier(cb);
+    cmdDispatch(cb, ws.pipelines.heightRange, {bind(ws.vertices), bind(ws.heightRange)}, &vertexCount, groupsFor(vertexCount, 64));
+    cmdBarrier(cb);
+  } else {
+    if (ws.blas.built) cmdRefit(cb, ws.blas);
+    else cmdBuild(cb, ws.blas);
+    cmdBarrier(cb);
+    if (ws.top.tlas.built) cmdRefit(cb, ws.top.tlas);
+    else cmdBuild(cb, ws.top.tlas);
+    cmdBarrier(cb);
+  }
+  profileStage(cb, *ws.ctx, "water update (heights, refit)");
+  ws.updated = true;
+}
+
+void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, uint32_t count,
+                  Buffer& refractedRays, Buffer& records, SurfaceTimings* timings, const SurfaceTraceHooks& hooks) {
+  if (!ws.updated) fail("traceSurface before cmdUpdateSurface: the surface has no heights yet");
+  if (count > ws.config.maxRays)
+    fail("traceSurface with " + std::to_string(count) + " rays; the surface was created for at most " + std::to_string(ws.config.maxRays));
+  ws.lastRayCount = count;
+  ws.lastCounters = {};
+  ws.lastCounters.points = ws.cachedPoints;
+  if (count == 0) {
+    if (hooks.before || hooks.after)
+      submitAndWait(ctx, [&](VkCommandBuffer cb) {
+        if (hooks.before) hooks.before(cb);
+        cmdBarrier(cb);
+        if (hooks.after) hooks.after(cb);
+      });
+    return;
+  }
+  const bool emptyCache = !surfaceCacheHasRoom(ws, count);
+  if (emptyCache && ws.gradientPending)
+    fail("water surface: the point cache is full while a height gradient is pending (cmdPushSurfaceGradients first)");
+  checkBuffer(rays, VkDeviceSize(count) * sizeof(GpuRay), "rays");
+  checkBuffer(refractedRays, VkDeviceSize(count) * sizeof(GpuRay), "refracted rays");
+  checkBuffer(records, VkDeviceSize(count) * sizeof(SurfaceRecord), "records");
+
+  const uint32_t K = ws.config.subdivisionLevels;
+  const SurfacePipelines& p = ws.pipelines;
+  SurfacePush pc = basePush(ws);
+  pc.count = count;
+  const uint32_t groups = groupsFor(count, 64);
+
+  std::unique_ptr<GpuTimer> timer;
+  if (timings) {
+    timings->clear();
+    timer = std::make_unique<GpuTimer>();
+    createTimer(ctx, *timer, 16);
+  }
+  auto submit = [&](const std::function<void(VkCommandBuffer)>& record) {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      if (timer) cmdTimerStart(cb, *timer);
+      record(cb);
+    });
+    if (timer)
+      for (auto& [stage, ms] : readTimer(*timer)) (*timings)[stage] += ms;
+  };
+  auto stamp = [&](VkCommandBuffer cb, const std::string& stage) {
+    if (timer) cmdTimerStamp(cb, *timer, stage);
+    profileStage(cb, ctx, "water trace: " + stage);
+  };
+  auto request = [&](VkCommandBuffer cb, int level, uint32_t mode) {
+    SurfacePush q = pc;
+    q.level = level;
+    q.mode = mode;
+    cmdDispatch(cb, p.requestPoints, {bind(records), bind(ws.latticeIndex), bind(ws.points), bind(ws.counters)}, &q,
+                groups);
+    cmdBarrier(cb);
+  };
+  // H at the points queued since `base` (they end at `end`), into pointHeights[base, end).
+  auto evaluateNew = [&](VkCommandBuffer cb, uint32_t base, uint32_t end) {
+    uint32_t n = end - base;
+    if (n == 0) return;
+    if (base == 0) {
+      heights.evaluate(cb, ws.points, n, ws.pointHeights);
+      cmdBarrier(cb);
+      return;
+    }
+    VkBufferCopy c{VkDeviceSize(base) * 8, 0, VkDeviceSize(n) * 8};
+    vkCmdCopyBuffer(cb, ws.points.buffer, ws.evalPoints.buffer, 1, &c);
+    cmdBarrier(cb);
+    heights.evaluate(cb, ws.evalPoints, n, ws.evalHeights);
+    cmdBarrier(cb);
+    VkBufferCopy h{0, VkDeviceSize(base) * 4, VkDeviceSize(n) * 4};
+    vkCmdCopyBuffer(cb, ws.evalHeights.buffer, ws.pointHeights.buffer, 1, &h);
+    cmdBarrier(cb);
+  };
+  auto readPointCount = [&]() {
+    uint32_t n = 0;
+    download(ctx, ws.counters, &n, 4);
+    if (n > ws.pointCapacity) fail("water surface: lattice point table overflow (" + std::to_string(n) + " points)");
+    return n;
+  };
+
+  // Global trace, then the midpoints level 1 needs.
+  submit([&](VkCommandBuffer cb) {
+    if (hooks.before) {
+      hooks.before(cb);
+      cmdBarrier(cb);
+    }
+    if (emptyCache) cmdClearPointCache(cb, ws);
+    vkCmdFillBuffer(cb, ws.counters.buffer, 4, VK_WHOLE_SIZE, 0);  // this trace's counts; 0 is the cache's
+    cmdBarrier(cb);
+    stamp(cb, "clear");
+    if (ws.heightRange)
+      cmdDispatch(cb, p.globalTrace, {bind(ws.vertices), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters), bind(ws.heightRange)},
+                  &pc, groups);
+    else
+      cmdDispatch(cb, p.globalTrace, {bind(ws.top.tlas), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters)}, &pc, groups);
+    cmdBarrier(cb);
+    stamp(cb, "global trace");
+    if (K > 0) {
+      request(cb, 1, 0);
+      stamp(cb, "level 1 points");
+    }
+  });
+  uint32_t evaluated = ws.cachedPoints;
+  for (uint32_t k = 1; k <= K; k++) {
+    uint32_t queued = readPointCount();
+    std::string level = "level " + std::to_string(k);
+    submit([&](VkCommandBuffer cb) {
+      evaluateNew(cb, evaluated, queued);
+      stamp(cb, level + " heights");
+      SurfacePush q = pc;
+      q.level = int32_t(k);
+      cmdDispatch(cb, p.subdivide,
+                  {bind(rays), bind(records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights),
+                   bind(ws.counters)},
+                  &q, groups);
+      cmdBarrier(cb);
+      stamp(cb, level + " test");
+      if (k < K) {
+        request(cb, int(k) + 1, 0);
+        stamp(cb, "level " + std::to_string(k + 1) + " points");
+      } else {
+        request(cb, int(k), 1);
+        stamp(cb, "normal points");
+      }
+    });
+    evaluated = queued;
+  }
+  uint32_t queued = K > 0 ? readPointCount() : 0;
+  submit([&](VkCommandBuffer cb) {
+    evaluateNew(cb, evaluated, queued);
+    stamp(cb, "normal heights");
+    cmdDispatch(cb, p.refract,
+                {bind(rays), bind(records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights),
+                 bind(refractedRays), bind(ws.hitNormals), bind(ws.counters)},
+                &pc, groups);
+    cmdBarrier(cb);
+    stamp(cb, "refract");
+    if (hooks.after) hooks.after(cb);
+  });
+  ws.lastCounters = readSurfaceCounters(ctx, ws);
+  ws.cachedPoints = ws.lastCounters.points;
+}
+
+void cmdBackwardSurfaceToHeights(VkCommandBuffer cb, WaterSurface& ws, const Buffer& rays, const Buffer& records, const Buffer& rayGrads,
+                                 uint32_t count) {
+  if (count != ws.lastRayCount)
+    fail("cmdBackwardSurface for " + std::to_string(count) + " rays after a trace of " + std::to_string(ws.lastRayCount));
+  if (count == 0) return;
+  checkBuffer(rayGrads, VkDeviceSize(count) * sizeof(GpuRayGrad), "ray gradients");
+  SurfacePush pc = basePush(ws);
+  pc.count = count;
+  if (!ws.gradientPending) {
+    vkCmdFillBuffer(cb, ws.gridGrad.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, ws.pointGrad.buffer, 0, VK_WHOLE_SIZE, 0);
+  }
+  cmdBarrier(cb);
+  cmdDispatch(cb, ws.pipelines.backward,
+              {bind(rays), bind(records), bind(rayGrads), bind(ws.gridHeights), bind(ws.latticeIndex),
+               bind(ws.pointHeights), bind(ws.gridGrad), bind(ws.pointGrad), bind(ws.counters)},
+              &pc, groupsFor(count, 64));
+  cmdBarrier(cb);
+  profileStage(cb, *ws.ctx, "water backward: to heights");
+  ws.gradientPending = true;
+}
+
+void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights) {
+  if (!ws.gradientPending) return;
+  if (heights.accumulateGradients) {
+    heights.accumulateGradients(cb, ws.gridPoints, ws.gridGrad, ws.gridPointCount);
+    if (ws.cachedPoints) heights.accumulateGradients(cb, ws.points, ws.pointGrad, ws.cachedPoints);
+    cmdBarrier(cb);
+    profileStage(cb, *ws.ctx, "water backward: to weights");
+  }
+  ws.gradientPending = false;
+}
+
+void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g, double scale) {
+  if (g.size() != ws.gridPointCount)
+    fail("water surface: a grid gradient of " + std::to_string(g.size()) + " values for " + std::to_string(ws.gridPointCount) + " grid points");
+  std::vector<float> sum(g.size(), 0.0f);
+  if (ws.gradientPending) sum = downloadVector<float>(ctx, ws.gridGrad, ws.gridPointCount);
+  else fillBuffer(ctx, ws.pointGrad, 0);
+  for (size_t k = 0; k < g.size(); k++) sum[k] = float(double(sum[k]) + scale * double(g[k]));
+  upload(ctx, ws.gridGrad, sum.data(), sum.size() * sizeof(float));
+  ws.gradientPending = true;
+}
+
+void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights) {
+  if (!ws.gradientPending) return;
+  if (!heights.accumulateGradients) {
+    ws.gradientPending = false;
+    return;
+  }
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    vkCmdFillBuffer(cb, ws.pushCount.buffer, 0, VK_WHOLE_SIZE, 0);
+    cmdBarrier(cb);
+    uint32_t n = ws.gridPointCount;
+    cmdDispatch(cb, ws.pipelines.compact, {bind(ws.gridPoints), bind(ws.gridGrad), bind(ws.pushPoints), bind(ws.pushGrads), bind(ws.pushCount)},
+                &n, groupsFor(n, 64));
+    n = ws.cachedPoints;
+    if (n) {
+      cmdBarrier(cb);
+      cmdDispatch(cb, ws.pipelines.compact, {bind(ws.points), bind(ws.pointGrad), bind(ws.pushPoints), bind(ws.pushGrads), bind(ws.pushCount)},
+                  &n, groupsFor(n, 64));
+    }
+    cmdBarrier(cb);
+    profileStage(cb, ctx, "water backward: points with a gradient");
+  });
+  uint32_t listed = 0;
+  download(ctx, ws.pushCount, &listed, 4);
+  if (listed)
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      heights.accumulateGradients(cb, ws.pushPoints, ws.pushGrads, listed);
+      cmdBarrier(cb);
+      profileStage(cb, ctx, "water backward: to weights");
+    });
+  ws.gradientPending = false;
+}
+
+void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, const Buffer& records,
+                        const Buffer& rayGrads, uint32_t count) {
+  cmdBackwardSurfaceToHeights(cb, ws, rays, records, rayGrads, count);
+  cmdPushSurfaceGradients(cb, ws, heights);
+}
+
+SurfaceCounters readSurfaceCounters(Context& ctx, WaterSurface& ws) {
+  uint32_t c[kCounterCount] = {};
+  download(ctx, ws.counters, c, sizeof(c));
+  SurfaceCounters s;
+  s.points = c[0];
+  s.missed = c[1];
+  s.invalid = c[2];
+  s.fallback = c[3];
+  s.nonFiniteGradients = c[4];
+  s.lookupFailures = c[5];
+  s.degenerate = c[6];
+  s.backFacing = c[7];
+  return s;
+}
+
+}  // namespace refrax

@@ -1,0 +1,38 @@
+#include "engine/vk/vk_commands.h"
+
+#include "engine/base/error.h"
+#include "engine/vk/vk_context.h"
+#include "engine/vk/vk_profile.h"
+
+namespace refrax {
+
+void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& record) {
+  VkCommandBuffer cb = ctx.commandBuffer;
+  REFRAX_VK(vkResetCommandBuffer(cb, 0));
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  REFRAX_VK(vkBeginCommandBuffer(cb, &bi));
+  profileSubmitBegin(cb, ctx);
+  record(cb);
+  REFRAX_VK(vkEndCommandBuffer(cb));
+  REFRAX_VK(vkResetFences(ctx.device, 1, &ctx.fence));
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cb;
+  REFRAX_VK(vkQueueSubmit(ctx.queue, 1, &si, ctx.fence));
+  REFRAX_VK(vkWaitForFences(ctx.device, 1, &ctx.fence, VK_TRUE, UINT64_MAX));
+  profileSubmitEnd(ctx);
+}
+
+void cmdBarrier(VkCommandBuffer cb) {
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                     VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR |
+                     VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+  VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                                VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR;
+  vkCmdPipelineBarrier(cb, stages, stages, 0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace refrax

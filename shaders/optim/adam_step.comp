@@ -1,0 +1,43 @@
+#version 460
+// One Adam update of parameters [first, count) from `offset` (torch.optim.Adam's formula; see
+// engine/optim/adam.h). Moments are the group's own, indexed from 0. Loads use a clamped index rather
+// than an early return (lavapipe turns loads under a branch into one-lane loads). The host runs
+// whole workgroups unguarded and only the last partial one with guarded stores (a clamped
+// duplicate must not update twice): the guard costs lavapipe about 30% when applied everywhere.
+layout(local_size_x = 256) in;
+layout(constant_id = 0) const bool kGuardStores = true;
+layout(std430, set = 0, binding = 0) buffer Params { float param[]; };
+layout(std430, set = 0, binding = 1) buffer Grads { float grad[]; };
+layout(std430, set = 0, binding = 2) buffer FirstMoment { float m[]; };
+layout(std430, set = 0, binding = 3) buffer SecondMoment { float v[]; };
+layout(push_constant) uniform Push {
+  uint count;
+  uint offset;
+  uint clearGradients;
+  float beta1;
+  float beta2;
+  float epsilon;
+  float stepSize;    // lr / (1 - beta1^t)
+  float invSqrtBc2;  // 1 / sqrt(1 - beta2^t)
+  uint first;        // first parameter of this dispatch
+} pc;
+void store(uint i, uint k, float mi, float vi, float p) {
+  m[i] = mi;
+  v[i] = vi;
+  param[k] = p;
+  if (pc.clearGradients != 0u) grad[k] = 0.0;
+}
+void main() {
+  uint unclamped = pc.first + gl_GlobalInvocationID.x;
+  uint i = min(unclamped, pc.count - 1u);
+  uint k = pc.offset + i;
+  float g = grad[k];
+  float mi = pc.beta1 * m[i] + (1.0 - pc.beta1) * g;
+  float vi = pc.beta2 * v[i] + (1.0 - pc.beta2) * g * g;
+  float p = param[k] - pc.stepSize * mi / (sqrt(vi) * pc.invSqrtBc2 + pc.epsilon);
+  if (kGuardStores) {
+    if (unclamped < pc.count) store(i, k, mi, vi, p);
+  } else {
+    store(i, k, mi, vi, p);
+  }
+}
