@@ -83,6 +83,13 @@ TEST_CASE("images: JPEG reads, other formats and impossible headers are refused 
   writeFileAtomic(dir / "fuzz.png", tgaBytes.data(), tgaBytes.size());
   CHECK_THROWS_WITH_AS(readPng(dir / "fuzz.png"), doctest::Contains("not a PNG or JPEG"), Error);
 
+  // The JPEG the PNG fuzzer found next (24 bytes): a Huffman table of more than 256 codes,
+  // which Debian's stb writes past the end of its table for.
+  const unsigned char dht[] = {0xff, 0xd8, 0xff, 0xc4, 0xa4, 0x10, 0x00, 0x00, 0x00, 0x7d, 0x0a, 0x0a,
+                               0x0a, 0x0a, 0x0a, 0x0a, 0x07, 0xf1, 0x1c, 0x02, 0x0a, 0x0a, 0x0a, 0x0a};
+  writeFileAtomic(dir / "dht.jpg", reinterpret_cast<const char*>(dht), sizeof(dht));
+  CHECK_THROWS_WITH_AS(readPng(dir / "dht.jpg"), doctest::Contains("dht.jpg: a malformed JPEG (a Huffman table with"), Error);
+
   // A real PNG whose header is edited to claim 8000 x 8000 pixels (which stb
   // itself would allocate, and fill from a few bytes).
   Image small;

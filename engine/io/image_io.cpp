@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <string>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
@@ -15,6 +16,45 @@ namespace {
 
 bool startsWith(const std::string& bytes, const char* magic, size_t n) { return bytes.size() >= n && bytes.compare(0, n, magic, n) == 0; }
 
+// Debian bookworm's stb_image builds a JPEG Huffman table from its 16 code-length counts
+// without checking that they sum to at most 256 symbols (the JPEG limit), and writes past its
+// 257-entry table when they do (found by fuzzing: fuzz/fuzz_png.cpp). So every DHT segment is
+// checked here first, before stb reads any of the file: the markers are walked from SOI, over
+// each scan's entropy-coded data (where 0xFF is followed by 0x00 stuffing, fill or RSTn).
+// Returns an empty string, or what is wrong.
+std::string jpegHuffmanProblem(const std::string& b) {
+  const size_t n = b.size();
+  auto byte = [&](size_t i) { return static_cast<unsigned char>(b[i]); };
+  size_t i = 2;  // after SOI
+  while (i + 1 < n) {
+    if (byte(i) != 0xFF) {  // entropy-coded data of a scan: on to the next marker
+      i++;
+      continue;
+    }
+    unsigned char m = byte(i + 1);
+    if (m == 0xFF || m == 0x00 || (m >= 0xD0 && m <= 0xD7) || m == 0x01) {  // fill, stuffing, RSTn, TEM
+      i += m == 0xFF ? 1 : 2;
+      continue;
+    }
+    if (m == 0xD9) return "";  // EOI
+    if (i + 3 >= n) return "";  // truncated: stb reports that itself
+    size_t length = size_t(byte(i + 2)) << 8 | byte(i + 3);
+    if (length < 2) return "a marker segment shorter than its length field";
+    size_t body = i + 4, end = std::min(n, i + 2 + length);
+    if (m == 0xC4) {  // DHT: tables of (class/id, 16 counts, the symbols)
+      for (size_t t = body; t < end;) {
+        if (t + 17 > end) break;  // truncated: stb refuses it
+        unsigned total = 0;
+        for (int k = 1; k <= 16; k++) total += byte(t + size_t(k));
+        if (total > 256) return "a Huffman table with " + std::to_string(total) + " codes (at most 256)";
+        t += 17 + total;
+      }
+    }
+    i = i + 2 + length;
+  }
+  return "";
+}
+
 }  // namespace
 
 Image readPng(const std::string& path) {
@@ -23,6 +63,8 @@ Image readPng(const std::string& path) {
   // whose headers can claim a huge image that 60 bytes of file then "fill" (found by fuzzing).
   if (!startsWith(bytes, "\x89PNG\r\n\x1a\n", 8) && !startsWith(bytes, "\xff\xd8\xff", 3))
     fail("cannot decode image " + path + ": not a PNG or JPEG file");
+  if (startsWith(bytes, "\xff\xd8\xff", 3))
+    if (std::string problem = jpegHuffmanProblem(bytes); !problem.empty()) fail("cannot decode image " + path + ": a malformed JPEG (" + problem + ")");
   const auto* raw = reinterpret_cast<const unsigned char*>(bytes.data());
   int w = 0, h = 0, c = 0;
   if (!stbi_info_from_memory(raw, int(bytes.size()), &w, &h, &c))
