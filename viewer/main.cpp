@@ -26,6 +26,7 @@
 #include "engine/io/gltf_surface.h"
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/train_run.h"
+#include "engine/view/frame_clock.h"
 #include "engine/view/view_camera.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
@@ -278,17 +279,16 @@ int runViewer(const cli::Args& args) {
   auto firstFrameShown = std::chrono::steady_clock::now();  // --min-seconds counts from the first frame, after pipeline compiles
   const float background[3] = {0.05f, 0.05f, 0.08f};
   auto last = std::chrono::steady_clock::now();
+  FrameClock frameClock;
 
   while (!glfwWindowShouldClose(window)) {
     glfwPollEvents();
     auto now = std::chrono::steady_clock::now();
     float dt = std::chrono::duration<float>(now - last).count();
     last = now;
-    // A running mean of the frame time (not of its inverse), from the first full frame: the
-    // interval before it is the setup's, and averaging rates let one near-zero interval
-    // show "31 FPS" on 1.3 s frames for dozens of frames.
-    if (frameIndex >= 1) stats.frameMs = frameIndex == 1 ? dt * 1e3 : 0.9 * stats.frameMs + 0.1 * dt * 1e3;
-    stats.fps = stats.frameMs > 0 ? 1e3 / stats.frameMs : 0.0;
+    addFrameInterval(frameClock, dt * 1e3);  // engine/view/frame_clock.h: skips the setup's interval
+    stats.frameMs = frameClock.meanMs;
+    stats.fps = frameClock.fps();
     if (frameIndex == bench.warmup) bench.wallMs = 0;
     else if (frameIndex > bench.warmup) bench.wallMs += dt * 1e3;
 
