@@ -10,7 +10,8 @@ namespace refrax {
 
 std::vector<cli::Option> datasetOptions() {
   return {
-      {"ior", "X", "index of refraction of the water (overrides water.json)", "water.json, else 1.33"},
+      {"ior", "X", std::string("index of refraction of the water (overrides water.json), ") + kIorRange,
+       "water.json, else " + [] { std::ostringstream s; s << kWaterIor; return s.str(); }()},
       {"water-height", "Z", "initial (mean) water height, world z (overrides water.json)", ""},
       {"water-depth", "D", "how far under the water the scene reaches (overrides water.json)", "derived"},
       {"domain", "X0,Y0,X1,Y1", "height-field domain (overrides water.json)", "derived from the cameras"},
@@ -42,7 +43,7 @@ Rect parseRect(const std::string& text, const std::string& what) {
 
 DatasetOptions datasetOptionsFrom(const cli::Args& args) {
   DatasetOptions o;
-  if (args.has("ior")) o.ior = args.getDouble("ior", 1.33);
+  if (args.has("ior")) o.ior = args.getDouble("ior", kWaterIor);
   if (args.has("water-height")) o.waterHeight = args.getDouble("water-height", 0);
   if (args.has("water-depth")) o.waterDepth = args.getDouble("water-depth", 1);
   if (args.has("domain")) o.domain = parseRect(args.get("domain"), "--domain");

@@ -61,13 +61,21 @@ struct Rect {
   double xMin = 0, yMin = 0, xMax = 0, yMax = 0;
 };
 
+// The water's index of refraction: 1.33 unless water.json or --ior says otherwise, and
+// accepted wherever it is read (water.json, --ior, a run's config.json) when finite and in
+// [kIorMin, kIorMax): below 1 the water would be thinner than air.
+constexpr double kWaterIor = 1.33;
+constexpr double kIorMin = 1.0, kIorMax = 4.0;
+inline bool validIor(double ior) { return ior >= kIorMin && ior < kIorMax; }  // false for NaN
+const char* const kIorRange = "a finite number in [1, 4)";
+
 struct WaterMetadata {
   // water.json "frame": "loaded" (the default: its values are in the frame the loader makes, for
   // LLFF the recentred and scaled one) or "dataset" (in the frame of the dataset's own poses: an
   // LLFF dataset's poses are then used as they are, neither recentred nor scaled; `refrax synth`
   // writes this, so its LLFF files load with its water.json).
   bool datasetFrame = false;
-  double ior = 1.33;
+  double ior = kWaterIor;
   std::optional<double> height;  // initial (mean) water height, world z
   std::optional<double> depth;   // how far under the water the scene reaches
   std::optional<Rect> domain;    // the height field's domain in x, y

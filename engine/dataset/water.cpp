@@ -41,8 +41,8 @@ WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions&
   if (options.waterHeight) w.height = *options.waterHeight;
   if (options.waterDepth) w.depth = *options.waterDepth;
   if (options.domain) w.domain = *options.domain;
-  if (!std::isfinite(w.ior) || w.ior < 1.0)
-    fail(from(options.ior.has_value(), "--ior") + ": the index of refraction must be a finite number >= 1, got " + std::to_string(w.ior));
+  if (!validIor(w.ior))
+    fail(from(options.ior.has_value(), "--ior") + ": the index of refraction must be " + kIorRange + ", got " + std::to_string(w.ior));
   if (w.height && !std::isfinite(*w.height)) fail(from(options.waterHeight.has_value(), "--water-height") + ": the water height is not finite");
   if (w.depth && !(*w.depth > 0 && std::isfinite(*w.depth)))
     fail(from(options.waterDepth.has_value(), "--water-depth") + ": the water depth must be a positive number");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/base/error.h"
+#include "engine/train/train_options.h"
 
 namespace refrax {
 
@@ -70,37 +71,46 @@ float encodingWindowAfterStep(const TrainConfig& c, int t, int surfaceBatchSteps
   return encodingWindowAt(c, lastSurfaceStep > freeze ? lastSurfaceStep + 1 : 0);
 }
 
+namespace {
+
+// The JSON object a row's key lives in ("schedule/NAME": inside "schedule") and its name there.
+std::pair<const nlohmann::json*, std::string> locate(const nlohmann::json& j, const std::string& key) {
+  size_t slash = key.find('/');
+  if (slash == std::string::npos) return {&j, key};
+  const std::string parent = key.substr(0, slash);
+  return {j.contains(parent) ? &j.at(parent) : nullptr, key.substr(slash + 1)};
+}
+
+}  // namespace
+
 void validateTrainConfig(const TrainConfig& c) {
   auto need = [](bool ok, const std::string& what) {
     if (!ok) fail("training configuration: " + what);
   };
-  need(c.steps >= 1, "--steps must be at least 1");
-  need(c.initialGaussians >= 1, "--gaussians must be at least 1");
+  // Every option's range (engine/train/train_options.cpp): each value through its checked setter.
+  TrainConfig scratch = c;
+  for (const TrainOption& o : trainOptionTable()) {
+    if (o.key.empty()) continue;
+    try {
+      o.set(scratch, o.get(c), o.flag.empty() ? o.key : "--" + o.flag);
+    } catch (const Error& e) {
+      fail(std::string("training configuration: ") + e.what());
+    }
+  }
+  // What relates one value to another, and the values resolved from the data.
   need(c.maxGaussians >= c.initialGaussians, "--max-gaussians must be at least the initial count");
-  need(c.initDepth == "box" || c.initDepth == "sweep", "--init-depth must be box or sweep, got " + c.initDepth);
-  need(c.initialDensity > 0 && c.initialDensity < 1, "--initial-density must be in (0, 1)");
-  need(c.maxShDegree <= 3, "--sh-degree must be 0..3");
-  need(c.kBuffer >= 1 && c.kBuffer <= 64, "--k-buffer must be 1..64");
-  need(c.hitRecordsPerRay <= 1024, "--hit-records must be 0..1024");
-  need(c.mlpWidth >= 1 && c.mlpHiddenLayers >= 1 && c.mlpOctaves <= 16, "height field sizes (--mlp-width, --mlp-layers >= 1, --mlp-octaves <= 16)");
-  need(std::isfinite(c.mlpInitRange) && c.mlpInitRange >= 0, "--mlp-init-range must be >= 0");
-  need(std::isfinite(c.surfaceLearningRate) && c.surfaceLearningRate > 0 && c.surfaceLearningRate < 1, "--surface-lr must be in (0, 1)");
-  need(c.surfaceBatch >= 0 && c.surfaceBatch <= 100000, "--surface-batch must be views or in [1, 100000]");
-  need(std::isfinite(c.surfaceSmoothness) && c.surfaceSmoothness >= 0, "--surface-smoothness must be finite and >= 0");
-  need(std::isfinite(c.levelPrior) && c.levelPrior >= 0, "--level-prior must be finite and >= 0");
-  need(c.gridCells >= 1 && c.gridCells <= 4096, "--grid-cells must be 1..4096");
-  need(c.subdivisionLevels <= 6, "--subdivision must be 0..6");
-  need(std::isfinite(c.ior) && c.ior >= 1 && c.ior < 4, "the IOR must be in [1, 4)");
+  need(validIor(c.ior), std::string("the index of refraction must be ") + kIorRange);
   need(std::isfinite(c.waterHeight), "the water height must be finite");
   need(c.domain.xMax > c.domain.xMin && c.domain.yMax > c.domain.yMin, "the surface domain is empty");
   for (int a = 0; a < 3; a++) need(c.boxMax[a] >= c.boxMin[a], "the initial Gaussian box is empty");
-  need(c.densityDecay > 0 && c.densityDecay <= 1, "--density-decay must be in (0, 1]");
-  need(std::isfinite(c.densityLossWeight) && c.densityLossWeight >= 0 && c.densityLossWeight <= 1000, "--density-loss must be in [0, 1000]");
   need(c.schedule.shDegreeInterval >= 1, "--sh-interval must be at least 1");
   need(c.schedule.lrSteps >= 1, "--lr-steps must be at least 1");
   for (int r : c.schedule.gaussianRestarts) need(r > 0 && r < c.steps, "--restart-gaussians must be steps after the first and before the last");
-  need(c.progressEvery >= 1, "--progress-every must be at least 1");
-  need(c.evalEvery >= 0 && c.checkpointEvery >= 0, "--eval-every and --checkpoint-every must be >= 0");
+}
+
+void applyDerivedDefaults(TrainConfig& c, const std::function<bool(const std::string& key)>& given) {
+  if (!given("max_gaussians")) c.maxGaussians = std::max(c.maxGaussians, c.initialGaussians);
+  if (!given("mlp_coarse_octaves")) c.mlpCoarseOctaves = c.mlpOctaves;  // coarse-to-fine off
 }
 
 nlohmann::json trainConfigToJson(const TrainConfig& c) {
@@ -118,9 +128,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
     d["domain"] = {r.xMin, r.yMin, r.xMax, r.yMax};
   }
   j["dataset_options"] = d;
-  j["model"] = waterModelName(c.model);
-  j["steps"] = c.steps;
-  j["seed"] = c.seed;
+  // resolved from the dataset and the cameras (engine/train/train_run.cpp resolveSceneConfig)
   j["ior"] = c.ior;
   j["water_height"] = c.waterHeight;
   j["depth"] = c.depth;
@@ -128,48 +136,12 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["domain"] = {c.domain.xMin, c.domain.yMin, c.domain.xMax, c.domain.yMax};
   j["box_min"] = {c.boxMin[0], c.boxMin[1], c.boxMin[2]};
   j["box_max"] = {c.boxMax[0], c.boxMax[1], c.boxMax[2]};
-  j["initial_gaussians"] = c.initialGaussians;
-  j["init_depth"] = c.initDepth;
-  j["max_gaussians"] = c.maxGaussians;
-  j["initial_density"] = c.initialDensity;
-  j["max_sh_degree"] = c.maxShDegree;
-  j["k_buffer"] = c.kBuffer;
-  j["hit_records"] = c.hitRecordsPerRay;
-  j["proxy"] = c.proxy;
-  j["mlp_width"] = c.mlpWidth;
-  j["mlp_hidden_layers"] = c.mlpHiddenLayers;
-  j["mlp_octaves"] = c.mlpOctaves;
-  j["mlp_coarse_octaves"] = c.mlpCoarseOctaves;
-  j["anchor_mean_height"] = c.anchorMeanHeight;
-  j["mlp_init_range"] = c.mlpInitRange;
-  j["surface_lr"] = c.surfaceLearningRate;
-  if (c.surfaceBatch == 0)
-    j["surface_batch"] = "views";
-  else
-    j["surface_batch"] = c.surfaceBatch;
-  j["surface_smoothness"] = c.surfaceSmoothness;
-  j["level_prior"] = c.levelPrior;
-  j["grid_cells"] = c.gridCells;
-  j["subdivision_levels"] = c.subdivisionLevels;
-  const ScheduleSteps& k = c.schedule;
-  j["schedule"] = {{"surface_freeze", k.surfaceFreeze},         {"face_normals_until", k.faceNormalsUntil},
-                   {"octaves_open_until", k.octavesOpenUntil},
-                   {"sh_degree_interval", k.shDegreeInterval},  {"density_reset_interval", k.densityResetInterval},
-                   {"density_reset_until", k.densityResetUntil}, {"density_decay_interval", k.densityDecayInterval},
-                   {"densify_from", k.densifyFrom},             {"densify_interval", k.densifyInterval},
-                   {"densify_until", k.densifyUntil},           {"lr_steps", k.lrSteps},
-                   {"prune_interval", k.pruneInterval},         {"prune_large_from", k.pruneLargeFrom},
-                   {"gaussian_restarts", k.gaussianRestarts}};
-  j["densify"] = c.densify;
-  j["densify_grad_threshold"] = c.densifyGradThreshold;
-  j["density_decay"] = c.densityDecay;
-  j["density_reset_value"] = c.densityResetValue;
-  j["density_loss"] = c.densityLossWeight;
-  j["patch"] = c.patch;
-  j["train_views"] = c.trainViews;
-  j["progress_every"] = c.progressEvery;
-  j["eval_every"] = c.evalEvery;
-  j["checkpoint_every"] = c.checkpointEvery;
+  for (const TrainOption& o : trainOptionTable()) {
+    if (o.key.empty()) continue;
+    size_t slash = o.key.find('/');
+    if (slash == std::string::npos) j[o.key] = o.get(c);
+    else j[o.key.substr(0, slash)][o.key.substr(slash + 1)] = o.get(c);
+  }
   return j;
 }
 
@@ -189,9 +161,6 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
       auto r = d["domain"];
       c.datasetOptions.domain = Rect{r.at(0).get<double>(), r.at(1).get<double>(), r.at(2).get<double>(), r.at(3).get<double>()};
     }
-    c.model = parseWaterModel(j.at("model").get<std::string>());
-    c.steps = j.at("steps").get<int>();
-    c.seed = j.at("seed").get<uint64_t>();
     c.ior = j.at("ior").get<double>();
     c.waterHeight = j.at("water_height").get<double>();
     c.depth = j.at("depth").get<double>();
@@ -202,58 +171,28 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
       c.boxMin[a] = j.at("box_min").at(a).get<double>();
       c.boxMax[a] = j.at("box_max").at(a).get<double>();
     }
-    c.initialGaussians = j.at("initial_gaussians").get<uint32_t>();
-    c.initDepth = j.value("init_depth", std::string("box"));  // runs written before the option: the box
-    c.maxGaussians = j.at("max_gaussians").get<uint32_t>();
-    c.initialDensity = j.at("initial_density").get<double>();
-    c.maxShDegree = j.at("max_sh_degree").get<uint32_t>();
-    c.kBuffer = j.at("k_buffer").get<uint32_t>();
-    c.hitRecordsPerRay = j.value("hit_records", kDefaultHitRecordsPerRay);  // runs written before the option: the default
-    c.proxy = j.at("proxy").get<std::string>();
-    c.mlpWidth = j.at("mlp_width").get<uint32_t>();
-    c.mlpHiddenLayers = j.at("mlp_hidden_layers").get<uint32_t>();
-    c.mlpOctaves = j.at("mlp_octaves").get<uint32_t>();
-    c.mlpCoarseOctaves = j.value("mlp_coarse_octaves", c.mlpOctaves);
-    c.anchorMeanHeight = j.value("anchor_mean_height", false);  // runs written before the option: every octave open
-    c.mlpInitRange = j.at("mlp_init_range").get<double>();
-    c.surfaceLearningRate = j.value("surface_lr", 5e-4);  // runs written before the option: the reference
-    // "views" is 0 in TrainConfig; anything but it or a count >= 1 is refused by the validation below.
-    const nlohmann::json batch = j.value("surface_batch", nlohmann::json(1));
-    c.surfaceBatch = batch == "views" ? 0 : batch.is_number_integer() && batch.get<long>() >= 1 ? int(std::min(batch.get<long>(), 1000000L)) : -1;
-    c.surfaceSmoothness = j.value("surface_smoothness", 0.0);  // runs written before the option: no prior
-    c.levelPrior = j.value("level_prior", 0.0);                // likewise
-    c.gridCells = j.at("grid_cells").get<uint32_t>();
-    c.subdivisionLevels = j.at("subdivision_levels").get<uint32_t>();
-    const auto& s = j.at("schedule");
-    ScheduleSteps& k = c.schedule;
-    k.surfaceFreeze = s.at("surface_freeze").get<int>();
-    k.faceNormalsUntil = s.at("face_normals_until").get<int>();
-    k.octavesOpenUntil = s.value("octaves_open_until", 0);
-    k.shDegreeInterval = s.at("sh_degree_interval").get<int>();
-    k.densityResetInterval = s.at("density_reset_interval").get<int>();
-    k.densityResetUntil = s.at("density_reset_until").get<int>();
-    k.densityDecayInterval = s.at("density_decay_interval").get<int>();
-    k.densifyFrom = s.at("densify_from").get<int>();
-    k.densifyInterval = s.at("densify_interval").get<int>();
-    k.densifyUntil = s.at("densify_until").get<int>();
-    k.lrSteps = s.at("lr_steps").get<int>();
-    k.pruneInterval = s.at("prune_interval").get<int>();
-    k.pruneLargeFrom = s.at("prune_large_from").get<int>();
-    // Runs written before the list held one step (0: none); runs before that, no restart.
-    if (s.contains("gaussian_restarts")) k.gaussianRestarts = s.at("gaussian_restarts").get<std::vector<int>>();
-    else if (s.value("gaussian_restart", 0) > 0) k.gaussianRestarts = {s.at("gaussian_restart").get<int>()};
-    c.densify = j.at("densify").get<bool>();
-    c.densifyGradThreshold = j.at("densify_grad_threshold").get<double>();
-    c.densityDecay = j.at("density_decay").get<double>();
-    c.densityResetValue = j.at("density_reset_value").get<double>();
-    c.densityLossWeight = j.value("density_loss", 0.007);  // runs written before the option: the reference
-    c.patch = j.at("patch").get<uint32_t>();
-    c.trainViews = j.value("train_views", 0u);  // runs written before the option used every view
-    c.progressEvery = j.at("progress_every").get<int>();
-    c.evalEvery = j.at("eval_every").get<int>();
-    c.checkpointEvery = j.at("checkpoint_every").get<int>();
   } catch (const nlohmann::json::exception& e) {
     fail(where + ": not a training configuration (" + e.what() + ")");
+  }
+  if (!j.is_object()) fail(where + ": not a training configuration (not a JSON object)");
+  // Every option from the table; one absent from an older run keeps its default.
+  for (const TrainOption& o : trainOptionTable()) {
+    if (o.key.empty()) continue;
+    auto [object, name] = locate(j, o.key);
+    if (!object || !object->is_object() || !object->contains(name)) {
+      if (o.required) fail(where + ": not a training configuration (no \"" + o.key + "\")");
+      continue;
+    }
+    o.set(c, object->at(name), where + ": " + o.key);
+  }
+  applyDerivedDefaults(c, [&](const std::string& key) { auto [object, name] = locate(j, key); return object && object->contains(name); });
+  // Runs written before the option: every octave open from the start; before the restart
+  // list, one restart step (0: none).
+  const nlohmann::json* schedule = j.contains("schedule") ? &j.at("schedule") : nullptr;
+  if (schedule && !schedule->contains("octaves_open_until")) c.schedule.octavesOpenUntil = 0;
+  if (schedule && !schedule->contains("gaussian_restarts") && schedule->contains("gaussian_restart")) {
+    const nlohmann::json& one = schedule->at("gaussian_restart");
+    if (one.is_number_integer() && one.get<long long>() > 0 && one.get<long long>() <= 100000000) c.schedule.gaussianRestarts = {one.get<int>()};
   }
   validateTrainConfig(c);
   return c;

@@ -5,6 +5,7 @@
 // every step count that was not set explicitly by steps / 15000, so a short run passes
 // through the same phases (surface frozen, face normals, SH degrees, density resets).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -48,7 +49,7 @@ struct TrainConfig {
   uint64_t seed = 1;
 
   // Water (resolved from water.json / options / the cameras).
-  double ior = 1.33, waterHeight = 0, depth = 0, extent = 1;
+  double ior = kWaterIor, waterHeight = 0, depth = 0, extent = 1;
   Rect domain;
   double boxMin[3] = {0, 0, 0}, boxMax[3] = {0, 0, 0};
 
@@ -138,5 +139,8 @@ void validateTrainConfig(const TrainConfig& config);
 
 nlohmann::json trainConfigToJson(const TrainConfig& config);
 TrainConfig trainConfigFromJson(const nlohmann::json& json, const std::string& where);
+// The defaults that follow other options when not given (`given` by config.json key):
+// --max-gaussians at least --gaussians, --mlp-coarse-octaves = --mlp-octaves (coarse-to-fine off).
+void applyDerivedDefaults(TrainConfig& config, const std::function<bool(const std::string& key)>& given);
 
 }  // namespace refrax
