@@ -89,6 +89,10 @@ TEST_CASE("images: JPEG reads, other formats and impossible headers are refused 
                                0x0a, 0x0a, 0x0a, 0x0a, 0x07, 0xf1, 0x1c, 0x02, 0x0a, 0x0a, 0x0a, 0x0a};
   writeFileAtomic(dir / "dht.jpg", reinterpret_cast<const char*>(dht), sizeof(dht));
   CHECK_THROWS_WITH_AS(readPng(dir / "dht.jpg"), doctest::Contains("dht.jpg: a malformed JPEG (a Huffman table with"), Error);
+  // And one cut short (14 bytes): stb reads the missing counts as zeros after 0xff, 0xff, 0xff.
+  const unsigned char cut[] = {0xff, 0xd8, 0xff, 0xc4, 0xdb, 0x06, 0x00, 0x00, 0xff, 0xff, 0xff, 0x00, 0x00, 0x25};
+  writeFileAtomic(dir / "cut.jpg", reinterpret_cast<const char*>(cut), sizeof(cut));
+  CHECK_THROWS_WITH_AS(readPng(dir / "cut.jpg"), doctest::Contains("cut.jpg: a malformed JPEG (a Huffman table cut short)"), Error);
 
   // A real PNG whose header is edited to claim 8000 x 8000 pixels (which stb
   // itself would allocate, and fill from a few bytes).

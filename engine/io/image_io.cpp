@@ -43,7 +43,9 @@ std::string jpegHuffmanProblem(const std::string& b) {
     size_t body = i + 4, end = std::min(n, i + 2 + length);
     if (m == 0xC4) {  // DHT: tables of (class/id, 16 counts, the symbols)
       for (size_t t = body; t < end;) {
-        if (t + 17 > end) break;  // truncated: stb refuses it
+        // stb reads a table's counts past the end of a short file as zeros, and past its
+        // segment as the bytes that follow: either way a table cut short is refused here
+        if (t + 17 > end) return "a Huffman table cut short";
         unsigned total = 0;
         for (int k = 1; k <= 16; k++) total += byte(t + size_t(k));
         if (total > 256) return "a Huffman table with " + std::to_string(total) + " codes (at most 256)";
