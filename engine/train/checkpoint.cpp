@@ -88,9 +88,11 @@ void saveCheckpoint(TrainSession& s, const std::string& runDir) {
     c.heightGrad = downloadVector<float>(ctx, s.heightGrad, c.heightCount);
   }
   c.planeHeight = s.planeHeight;
-  c.planeM = s.planeM;
-  c.planeV = s.planeV;
-  c.planeStep = int32_t(s.planeStep);
+  if (!s.planeAdam.m.empty()) {  // the flat-water model's Adam
+    c.planeM = s.planeAdam.m[0];
+    c.planeV = s.planeAdam.v[0];
+    c.planeStep = int32_t(s.planeAdam.groups[0].step);
+  }
   c.planeGrad = s.planeGrad;
   const std::string bytes = encodeCheckpoint(c);
 
@@ -141,9 +143,11 @@ void loadCheckpoint(TrainSession& s, const std::string& path) {
     upload(ctx, s.heightGrad, c.heightGrad.data(), c.heightGrad.size() * 4);
   }
   s.planeHeight = c.planeHeight;
-  s.planeM = c.planeM;
-  s.planeV = c.planeV;
-  s.planeStep = c.planeStep;
+  if (!s.planeAdam.m.empty()) {
+    s.planeAdam.m[0] = float(c.planeM);
+    s.planeAdam.v[0] = float(c.planeV);
+    s.planeAdam.groups[0].step = c.planeStep;
+  }
   s.planeGrad = c.planeGrad;
   s.plane.waves.base = float(c.planeHeight);
   if (s.surface) {

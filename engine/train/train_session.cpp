@@ -227,6 +227,11 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   }
   if (config.model == WaterModel::FlatWater) {
     s->planeHeight = config.waterHeight;
+    AdamColumns height;
+    height.name = "water_height";
+    height.width = 1;
+    height.lr = surfaceLearningRate(config);
+    s->planeAdam = createTableAdam(1, {height}, 1);
     AnalyticWaves w;
     w.base = float(s->planeHeight);
     s->plane = createAnalyticHeightField(ctx, w);
@@ -262,14 +267,10 @@ double planeHeightGradient(TrainSession& s) {
 }
 
 void planeAdamStep(TrainSession& s, double grad) {
-  LearningRateSchedule lr = surfaceLearningRate(s.config);
-  AdamSettings a;
-  s.planeStep++;
-  s.planeM = a.beta1 * s.planeM + (1 - a.beta1) * grad;
-  s.planeV = a.beta2 * s.planeV + (1 - a.beta2) * grad * grad;
-  double mHat = s.planeM / (1 - std::pow(a.beta1, s.planeStep)), vHat = s.planeV / (1 - std::pow(a.beta2, s.planeStep));
-  s.planeHeight -= lr.at(s.planeStep) * mHat / (std::sqrt(vHat) + a.epsilon);
-  s.plane.waves.base = float(s.planeHeight);
+  std::vector<float> height{float(s.planeHeight)};
+  tableAdamStep(s.planeAdam, height, {float(grad)});
+  s.planeHeight = height[0];
+  s.plane.waves.base = height[0];
 }
 
 // Per coarse grid slot ((cellsX + 3) x (cellsY + 3), border ring included at weight 0): how
@@ -355,7 +356,7 @@ void applyDensitySchedule(TrainSession& s, int t) {
       float& l = s.gaussians.at(i)[f32::kGaussLogitDensity];
       l = std::min(l, cap);
     }
-    resetGaussianAdamGroup(s.gaussianAdam, "density");
+    resetAdamColumns(s.gaussianAdam, "density");
   }
 }
 
@@ -554,7 +555,7 @@ double gaussianStep(TrainSession& s, int t) {
     densitySquares += sg * sg;
     grads[i * kGaussianFloats + f32::kGaussLogitDensity] += float(c.densityLossWeight / double(count) * 2 * sg * sg * (1 - sg));
   }
-  gaussianAdamStep(s.gaussianAdam, s.gaussians, grads);
+  tableAdamStep(s.gaussianAdam, s.gaussians.params, grads);
   applyDensitySchedule(s, t);
   return densitySquares / double(std::max<size_t>(1, count));
 }
@@ -569,7 +570,7 @@ bool densifyStep(TrainSession& s, int t) {
   size_t before = s.gaussians.count();
   std::vector<uint32_t> rowMap;
   s.lastDensify = densify(s.gaussians, s.densifyStats, s.densifyConfig, uint32_t(t), s.rng, rowMap);
-  remapGaussianAdamRows(s.gaussianAdam, rowMap);
+  remapTableAdamRows(s.gaussianAdam, rowMap);
   // The statistics restart after a clone/split (3DGS); a prune alone keeps the survivors'.
   std::vector<float> kept(rowMap.size() * 2, 0.0f);
   if (!cloneSplit)

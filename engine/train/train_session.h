@@ -10,7 +10,7 @@
 //      (--surface-smoothness, --level-prior) added, dL/dheight -> dL/d(height parameters)
 //      once over the batch's points, Adam on the MLP (device Adam, engine/optim/adam.h) or the one
 //      height of --flat-water, the surface lifted again
-//   -> Adam on the Gaussian table's six groups (engine/optim/gaussian_adam.h).
+//   -> Adam on the Gaussian table's six groups (engine/optim/table_adam.h).
 // The camera rays, the Gaussians, the loss and the backward share one submission with the
 // surface trace's last (profile: `refrax train --profile`, engine/vk/vk_profile.h).
 // The session is not movable (height sources refer to its members): it lives in a unique_ptr.
@@ -30,7 +30,7 @@
 #include "engine/gaussian/gaussian_trace.h"
 #include "engine/height/height_field.h"
 #include "engine/loss/image_loss.h"
-#include "engine/optim/gaussian_adam.h"
+#include "engine/optim/table_adam.h"
 #include "engine/train/train_config.h"
 #include "engine/vk/vk_profile.h"
 #include "engine/surface/water_surface.h"
@@ -60,7 +60,7 @@ struct TrainSession {
   // Gaussians: the host table (Adam runs here), its device copy, the tracer and its proxies.
   GaussianSet gaussians;
   DeviceGaussians device;
-  GaussianAdam gaussianAdam;
+  TableAdam gaussianAdam;
   GaussianTracer tracer;
   ProxyKind proxyKind = ProxyKind::AabbBlas;
   GaussianProxies proxies;
@@ -76,9 +76,9 @@ struct TrainSession {
   double priorEnergy = 0;
   uint64_t priorHeightsVersion = 0;  // the surface's heightsVersion they were computed at
   AnalyticHeightField plane;  // waves zero, base = planeHeight
-  double planeHeight = 0, planeM = 0, planeV = 0;
+  double planeHeight = 0;
+  TableAdam planeAdam;   // the plane's height: a table of one row and one column
   double planeGrad = 0;  // dL/d(plane height) summed since the last plane step (--surface-batch), pushed part
-  int planeStep = 0;
   std::optional<WaterSurface> surface;
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
 

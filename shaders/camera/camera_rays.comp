@@ -1,5 +1,5 @@
 #version 460
-// One ray per pixel of a pinhole camera (shared/pinhole.glsl): every pixel in row-major order,
+// One ray per pixel of a pinhole camera (shaders/include/pinhole.glsl): every pixel in row-major order,
 // or the pixels listed (index y * width + x) for a patch or ray-batch sampler.
 #extension GL_GOOGLE_include_directive : require
 #include "shared_prelude.glsl"

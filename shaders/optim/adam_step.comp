@@ -1,9 +1,12 @@
 #version 460
-// One Adam update of parameters [first, count) from `offset` (torch.optim.Adam's formula; see
+// One Adam update of parameters [first, count) from `offset` (shaders/include/adam_update.glsl,
 // engine/optim/adam.h). Moments are the group's own, indexed from 0. Loads use a clamped index rather
 // than an early return (lavapipe turns loads under a branch into one-lane loads). The host runs
 // whole workgroups unguarded and only the last partial one with guarded stores (a clamped
 // duplicate must not update twice): the guard costs lavapipe about 30% when applied everywhere.
+#extension GL_GOOGLE_include_directive : require
+#include "shared_prelude.glsl"
+#include "adam_update.glsl"
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const bool kGuardStores = true;
 layout(std430, set = 0, binding = 0) buffer Params { float param[]; };
@@ -31,10 +34,8 @@ void main() {
   uint unclamped = pc.first + gl_GlobalInvocationID.x;
   uint i = min(unclamped, pc.count - 1u);
   uint k = pc.offset + i;
-  float g = grad[k];
-  float mi = pc.beta1 * m[i] + (1.0 - pc.beta1) * g;
-  float vi = pc.beta2 * v[i] + (1.0 - pc.beta2) * g * g;
-  float p = param[k] - pc.stepSize * mi / (sqrt(vi) * pc.invSqrtBc2 + pc.epsilon);
+  float mi = m[i], vi = v[i], p = param[k];
+  adamUpdate(p, mi, vi, grad[k], pc.beta1, pc.beta2, pc.epsilon, pc.stepSize, pc.invSqrtBc2);
   if (kGuardStores) {
     if (unclamped < pc.count) store(i, k, mi, vi, p);
   } else {

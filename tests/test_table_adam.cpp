@@ -1,4 +1,4 @@
-// The Gaussian table's Adam on the host (engine/optim/gaussian_adam.h) against the double
+// The host Adam for tables (engine/optim/table_adam.h), on the Gaussians' table, against the double
 // reference (engine/reference/adam_ref.h): every column group with its own learning rate and
 // bias correction, a group reset midway, non-finite gradients taken as zero.
 #include <doctest/doctest.h>
@@ -9,7 +9,8 @@
 
 #include "engine/base/error.h"
 #include "engine/reference/adam_ref.h"
-#include "engine/optim/gaussian_adam.h"
+#include "engine/gaussian/gaussians.h"
+#include "engine/optim/table_adam.h"
 
 using namespace refrax;
 
@@ -21,7 +22,7 @@ TEST_CASE("Gaussian Adam matches the double reference per column group, through 
   GaussianSet set;
   set.params.resize(count * kGaussianFloats);
   for (float& p : set.params) p = N(rng);
-  GaussianAdam adam = createGaussianAdam(2.0, lrSteps, count);
+  TableAdam adam = createGaussianAdam(2.0, lrSteps, count);
   REQUIRE(adam.groups.size() == 6);
 
   // The reference: one Adam state per group, over the group's columns of every row.
@@ -30,7 +31,7 @@ TEST_CASE("Gaussian Adam matches the double reference per column group, through 
     int step = 0;
   };
   std::vector<RefGroup> ref(adam.groups.size());
-  auto columns = [&](const GaussianAdamGroup& g, const std::vector<float>& table) {
+  auto columns = [&](const AdamColumns& g, const std::vector<float>& table) {
     std::vector<double> out;
     for (size_t i = 0; i < count; i++)
       for (uint32_t c = 0; c < g.width; c++) out.push_back(table[i * kGaussianFloats + g.first + c]);
@@ -47,7 +48,7 @@ TEST_CASE("Gaussian Adam matches the double reference per column group, through 
     for (float& g : grads) g = N(rng) * (step % 2 ? 1e-3f : 10.0f);  // gradients of very different size
     grads[3] = NAN;                                                    // a bad ray's gradient: counts as 0
     grads[kGaussianFloats + 1] = INFINITY;
-    gaussianAdamStep(adam, set, grads);
+    tableAdamStep(adam, set.params, grads);
     std::vector<float> clean = grads;
     for (float& g : clean) g = std::isfinite(g) ? g : 0.0f;
     for (size_t k = 0; k < ref.size(); k++) {
@@ -66,7 +67,7 @@ TEST_CASE("Gaussian Adam matches the double reference per column group, through 
     }
     if (step == 2) {
       // 3DGS's density reset: that group's moments and bias correction start over.
-      resetGaussianAdamGroup(adam, "density");
+      resetAdamColumns(adam, "density");
       for (size_t k = 0; k < ref.size(); k++)
         if (adam.groups[k].name == "density") {
           ref[k].m.assign(ref[k].m.size(), 0.0);
@@ -75,6 +76,29 @@ TEST_CASE("Gaussian Adam matches the double reference per column group, through 
         }
     }
   }
-  CHECK_THROWS_AS(resetGaussianAdamGroup(adam, "opacity"), Error);
-  CHECK_THROWS_AS(gaussianAdamStep(adam, set, std::vector<float>(3)), Error);
+  CHECK_THROWS_AS(resetAdamColumns(adam, "opacity"), Error);
+  CHECK_THROWS_AS(tableAdamStep(adam, set.params, std::vector<float>(3)), Error);
+}
+
+TEST_CASE("Table Adam: the flat water's one height (one row, one column) follows the double reference") {
+  AdamColumns height;
+  height.name = "water_height";
+  height.width = 1;
+  height.lr = LearningRateSchedule{0.02, 0.0002, 4};  // decays over the steps taken here
+  TableAdam adam = createTableAdam(1, {height}, 1);
+  std::vector<float> p{0.3f};
+  std::vector<double> rp{0.3}, rm{0.0}, rv{0.0};
+  const double grads[] = {0.5, -2.0, 1e-4, 3.0, -0.25};
+  for (int step = 1; step <= 5; step++) {
+    tableAdamStep(adam, p, {float(grads[step - 1])});
+    ref::adamStep(rp, rm, rv, {grads[step - 1]}, height.lr.at(step), step);
+    INFO("step " << step);
+    CHECK(p[0] == doctest::Approx(rp[0]).epsilon(1e-6));
+    CHECK(adam.groups[0].step == step);
+  }
+  AdamColumns outside;
+  outside.name = "outside";
+  outside.first = 1;
+  outside.width = 1;
+  CHECK_THROWS_AS(createTableAdam(1, {outside}, 1), Error);
 }

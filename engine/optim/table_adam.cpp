@@ -1,0 +1,92 @@
+#include "engine/optim/table_adam.h"
+
+#include <cmath>
+
+#include "engine/base/error.h"
+#include "engine/base/shared_math.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/gaussian/gaussians.h"
+
+namespace refrax::f32 {
+#include "adam_update.glsl"
+}  // namespace refrax::f32
+
+namespace refrax {
+
+TableAdam createTableAdam(uint32_t rowWidth, std::vector<AdamColumns> groups, size_t rows) {
+  if (rowWidth == 0) fail("Adam table: a row must hold at least one float");
+  for (const AdamColumns& g : groups)
+    if (g.width == 0 || g.first + g.width > rowWidth) fail("Adam table: group '" + g.name + "' lies outside the row");
+  TableAdam adam;
+  adam.rowWidth = rowWidth;
+  adam.groups = std::move(groups);
+  adam.m.assign(rows * rowWidth, 0.0f);
+  adam.v.assign(rows * rowWidth, 0.0f);
+  return adam;
+}
+
+TableAdam createGaussianAdam(double extent, int lrSteps, size_t count) {
+  struct Columns {
+    const char* name;
+    uint32_t first, width;
+  };
+  const Columns columns[] = {{"position", f32::kGaussMean, 3},        {"rotation", f32::kGaussRotation, 4},
+                             {"scale", f32::kGaussLogScale, 3},       {"density", f32::kGaussLogitDensity, 1},
+                             {"sh_dc", f32::kGaussSH, 3},             {"sh_rest", f32::kGaussSH + 3, 45}};
+  std::vector<AdamColumns> groups;
+  for (const auto& c : columns) {
+    AdamColumns g;
+    g.name = c.name;
+    g.first = c.first;
+    g.width = c.width;
+    g.lr = referenceLearningRate(c.name, extent);
+    g.lr.steps = lrSteps;
+    groups.push_back(g);
+  }
+  return createTableAdam(kGaussianFloats, std::move(groups), count);
+}
+
+void tableAdamStep(TableAdam& adam, std::vector<float>& params, const std::vector<float>& grads, const AdamSettings& s) {
+  const size_t w = adam.rowWidth, rows = params.size() / w;
+  if (grads.size() != params.size() || adam.m.size() != params.size() || params.size() % w != 0) fail("Adam table: table sizes differ");
+  const float b1 = float(s.beta1), b2 = float(s.beta2), eps = float(s.epsilon);
+  for (auto& g : adam.groups) {
+    g.step++;
+    const float stepSize = float(g.lr.at(g.step) / (1.0 - std::pow(s.beta1, g.step)));
+    const float invSqrtBc2 = float(1.0 / std::sqrt(1.0 - std::pow(s.beta2, g.step)));
+    for (size_t i = 0; i < rows; i++)
+      for (uint32_t c = 0; c < g.width; c++) {
+        const size_t k = i * w + g.first + c;
+        f32::adamUpdate(params[k], adam.m[k], adam.v[k], std::isfinite(grads[k]) ? grads[k] : 0.0f, b1, b2, eps, stepSize, invSqrtBc2);
+      }
+  }
+}
+
+void resetAdamColumns(TableAdam& adam, const std::string& name) {
+  const size_t w = adam.rowWidth;
+  for (auto& g : adam.groups) {
+    if (g.name != name) continue;
+    for (size_t i = 0; i < adam.m.size() / w; i++)
+      for (uint32_t c = 0; c < g.width; c++) adam.m[i * w + g.first + c] = adam.v[i * w + g.first + c] = 0.0f;
+    g.step = 0;
+    return;
+  }
+  fail("Adam table: no group '" + name + "'");
+}
+
+void remapTableAdamRows(TableAdam& adam, const std::vector<uint32_t>& sourceRow) {
+  const size_t w = adam.rowWidth, old = adam.m.size() / w;
+  std::vector<float> m(sourceRow.size() * w, 0.0f), v(m.size(), 0.0f);
+  for (size_t i = 0; i < sourceRow.size(); i++) {
+    if (sourceRow[i] == kNewRow) continue;
+    if (sourceRow[i] >= old) fail("Adam table: source row out of range");
+    for (size_t c = 0; c < w; c++) {
+      m[i * w + c] = adam.m[sourceRow[i] * w + c];
+      v[i * w + c] = adam.v[sourceRow[i] * w + c];
+    }
+  }
+  adam.m.swap(m);
+  adam.v.swap(v);
+}
+
+}  // namespace refrax
