@@ -585,6 +585,15 @@ bool densifyStep(TrainSession& s, int t) {
   return !identity;  // new rows: re-upload and rebuild the proxies
 }
 
+// The Gaussians drawn afresh when the step is one of --restart-gaussians; true if so.
+bool restartStep(TrainSession& s, int t) {
+  const std::vector<int>& restarts = s.config.schedule.gaussianRestarts;
+  if (std::find(restarts.begin(), restarts.end(), t) == restarts.end()) return false;
+  HostStage h(*s.ctx, "restart and plane sweep");
+  drawGaussians(s);
+  return true;
+}
+
 }  // namespace
 
 void pushWaterGradient(TrainSession& s) {
@@ -618,16 +627,11 @@ StepResult trainStep(TrainSession& s) {
   }
   if (surfaceStepAt(s, t)) surfaceStep(s, t);
   const double densitySquares = gaussianStep(s, t);
-  bool countChanged = densifyStep(s, t);
-  const std::vector<int>& restarts = s.config.schedule.gaussianRestarts;
-  if (std::find(restarts.begin(), restarts.end(), t) != restarts.end()) {
-    HostStage h(*s.ctx, "restart and plane sweep");
-    drawGaussians(s);
-    countChanged = r.restarted = true;
-  }
+  const bool countChanged = densifyStep(s, t);
+  r.restarted = restartStep(s, t);
   {
     HostStage h(*s.ctx, "gaussian upload and proxies");
-    syncGaussians(s, countChanged);
+    syncGaussians(s, countChanged || r.restarted);
   }
   r.imageLoss = forward.imageLoss;
   r.loss = r.imageLoss + s.config.densityLossWeight * densitySquares + priorEnergy;
