@@ -428,14 +428,15 @@ GPU_TEST_CASE("train: a checkpoint in the middle of a --surface-batch sum resume
   while (second->step < 10) trainStep(*second);
 
   // The same surface steps on the same sums: the weights agree up to the float-atomic sums'
-  // order. The first sum's two steps would be lost without it, and that moves step 8 by a
-  // large part of the learning rate.
+  // order (1e-7 to 3e-5 here, the most with other work on the machine: Adam amplifies the
+  // order's noise in the first steps). Without the sum in the checkpoint, step 8 loses two of
+  // its four gradients and the weights move by about the learning rate (1.04-1.06e-2, planted).
   std::vector<float> a = downloadWeights(ctx, *whole->height), b = downloadWeights(ctx, *second->height);
   REQUIRE(a.size() == b.size());
   double most = 0;
   for (size_t i = 0; i < a.size(); i++) most = std::max(most, std::abs(double(a[i]) - b[i]));
   MESSAGE("largest weight difference " << most << " (learning rate " << c.surfaceLearningRate << ")");
-  CHECK(most < 1e-3 * c.surfaceLearningRate);
+  CHECK(most < 0.05 * c.surfaceLearningRate);
 }
 
 // A surface prior's weight: config.json keeps the run's value (and 0 for the run without it),
