@@ -22,6 +22,7 @@ int runInspect(const cli::Args& args) {
   if (args.positional.size() != 1) fail("refrax inspect needs one dataset folder");
   Dataset d = loadDataset(args.positional[0], datasetOptionsFrom(args));
   std::printf("dataset %s (%s)\n", d.root.c_str(), d.format.c_str());
+  for (const std::string& note : d.notes) std::printf("  %s\n", note.c_str());
   for (const auto& [name, views] : d.splits) {
     const Camera& c = views[0].camera;
     std::printf("  %-6s %3zu views, %dx%d, fx %.2f fy %.2f cx %.2f cy %.2f (first view)\n", name.c_str(), views.size(), c.width, c.height,

@@ -132,6 +132,7 @@ int runTrain(const cli::Args& args) {
   TrainConfig config = configFromArgs(args);
   config.dataset = fs::absolute(args.positional[0]).lexically_normal().string();
   Dataset dataset = loadDataset(config.dataset, config.datasetOptions);
+  for (const std::string& note : dataset.notes) std::fprintf(stderr, "%s: %s\n", config.dataset.c_str(), note.c_str());
   keepTrainViews(dataset, config.trainViews);  // before the scene bounds: they come from the views trained on
   resolveSceneConfig(config, dataset);
   // Everything checked: the run folder appears only now (and goes again if the device fails).

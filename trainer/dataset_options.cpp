@@ -16,8 +16,9 @@ std::vector<cli::Option> datasetOptions() {
       {"water-depth", "D", "how far under the water the scene reaches (overrides water.json)", "derived"},
       {"domain", "X0,Y0,X1,Y1", "height-field domain (overrides water.json)", "derived from the cameras"},
       {"background", "R,G,B", "colour RGBA images are composited on, in [0,1]", "0,0,0"},
-      {"llff-factor", "N", "LLFF: read images_<N>/ (1: images/)", "1"},
-      {"llff-hold", "N", "LLFF: every N-th image (from the first) is a test view", "8"},
+      {"llff-factor", "N", "LLFF and COLMAP: read images_<N>/ (1: images/)", "1"},
+      {"llff-hold", "N", "LLFF and COLMAP: every N-th image (from the first) is a test view", "8"},
+      {"up", "X,Y,Z", "COLMAP: the water's up (toward the cameras) in the model's frame", "derived from the cameras"},
   };
 }
 
@@ -52,6 +53,11 @@ DatasetOptions datasetOptionsFrom(const cli::Args& args) {
     for (double x : c)
       if (x < 0 || x > 1) fail("--background expects three numbers in [0,1] as R,G,B, got '" + args.get("background") + "'");
     o.background = glm::dvec3(c[0], c[1], c[2]);
+  }
+  if (args.has("up")) {
+    auto u = parseNumbers(args.get("up"), 3, "--up", "three numbers X,Y,Z");
+    if (glm::length(glm::dvec3(u[0], u[1], u[2])) < 1e-9) fail("--up expects a direction, got '" + args.get("up") + "'");
+    o.up = glm::dvec3(u[0], u[1], u[2]);
   }
   o.llffFactor = int(args.getInt("llff-factor", 1));
   o.llffHold = int(args.getInt("llff-hold", 8));

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/base/error.h"
+#include "engine/dataset/colmap_model.h"
 #include "engine/io/atomic_file.h"
 
 namespace refrax {
@@ -14,9 +15,14 @@ const std::vector<View>& Dataset::split(const std::string& name) const {
 }
 
 Dataset loadDataset(const std::string& folder, const DatasetOptions& options) {
+  const bool colmap = hasColmapModel(folder + "/sparse/0") || hasColmapModel(folder + "/sparse") || hasColmapModel(folder);
+  if (options.up && (!colmap || fileExists(folder + "/transforms_train.json") || fileExists(folder + "/poses_bounds.npy")))
+    fail("--up applies to COLMAP datasets only (" + folder + " is not one)");
   if (fileExists(folder + "/transforms_train.json")) return loadBlenderDataset(folder, options);
   if (fileExists(folder + "/poses_bounds.npy")) return loadLlffDataset(folder, options);
-  fail("no dataset in " + folder + ": expected transforms_train.json (NeRF/Blender) or poses_bounds.npy (LLFF)");
+  if (colmap) return loadColmapDataset(folder, options);
+  fail("no dataset in " + folder + ": expected transforms_train.json (NeRF/Blender), poses_bounds.npy (LLFF) or a COLMAP model "
+       "(sparse/0/cameras.bin or .txt)");
 }
 
 void validateCameraToWorld(const glm::dmat4& m, const std::string& where) {

@@ -1,6 +1,7 @@
 #pragma once
-// Posed image datasets: the NeRF/Blender format (transforms_<split>.json) and LLFF
-// (poses_bounds.npy, as NeRFrac's dataset), plus the water metadata (water.json).
+// Posed image datasets: the NeRF/Blender format (transforms_<split>.json), LLFF
+// (poses_bounds.npy, as NeRFrac's dataset) and COLMAP sparse models (what users of Gaussian
+// splatting make of their own photographs), plus the water metadata (water.json).
 //
 // World frame: Z up, out of the water; cameras in the Blender/NeRF convention (engine/camera/camera.h:
 // camera-to-world columns right, up, back; the camera looks down its -Z).
@@ -29,6 +30,25 @@
 //   Dataset::normalization holds the whole map, world_loaded = normalization * world_original.
 //   Images are sorted by file name and paired with the rows in order. Test views: every
 //   llffHold-th image from the first (0, 8, 16, ... for the default 8), the others train.
+//
+// COLMAP (a sparse model in sparse/0/, sparse/ or the folder itself: cameras, images and
+//   points3D as .bin or .txt, engine/dataset/colmap_model.h; images in images/ or images_<N>/
+//   with --llff-factor N, intrinsics divided by N). PINHOLE and SIMPLE_PINHOLE cameras; any
+//   other model is refused with the fix (`colmap image_undistorter`). Images registered but
+//   not on disk, or on disk but not registered, are left out and counted in Dataset::notes.
+//   The model's frame is arbitrary, so the loaded frame is derived for the water:
+//   1. Up (toward the cameras): --up X,Y,Z in the model's frame; else, when the cameras look
+//      the same way (their unit viewing directions' mean has length > 0.5: a rig looking down),
+//      the opposite of their mean viewing direction; else (a ring around the scene) the normal
+//      of the plane through their centres (least-squares), on the cameras' side. Up becomes +Z.
+//   2. The mean camera centre becomes the origin.
+//   3. Scale: the median depth of the sparse points below the cameras becomes 1 (COLMAP's
+//      units when the model has fewer than 10 points).
+//   4. The water height: --water-height or water.json (in this loaded frame), else the 95th
+//      percentile of the sparse points' heights, taken as the dry rim around the water
+//      (points seen through the water appear lower); an error when there are no points.
+//   Test views: every llffHold-th image in name order, from the first, as LLFF.
+//   `refrax inspect` prints the derived frame (Dataset::notes).
 //
 // water.json (optional, in the dataset folder; values in the loaded world frame): {"ior": 1.33,
 //   "height": -1.0, "depth": 2.0, "domain": [xmin, ymin, xmax, ymax]}; every field optional,
@@ -88,22 +108,25 @@ struct DatasetOptions {
   // Overrides of water.json (command-line options).
   std::optional<double> ior, waterHeight, waterDepth;
   std::optional<Rect> domain;
+  std::optional<glm::dvec3> up;          // COLMAP: the water's up in the model's frame (else derived)
 };
 
 struct Dataset {
   std::string root;
-  std::string format;                             // "blender" or "llff"
+  std::string format;                             // "blender", "llff" or "colmap"
   std::map<std::string, std::vector<View>> splits;  // "train", "test", ...
   WaterMetadata water;
-  glm::dmat4 normalization{1.0};                  // original world -> loaded world (LLFF)
+  glm::dmat4 normalization{1.0};                  // original world -> loaded world (LLFF, COLMAP)
+  std::vector<std::string> notes;                 // what the loader derived or left out, for `refrax inspect` and `train`
 
   const std::vector<View>& split(const std::string& name) const;  // refrax::Error when absent
 };
 
-// Detects the format (transforms_train.json: Blender; poses_bounds.npy: LLFF).
+// Detects the format (transforms_train.json: Blender; poses_bounds.npy: LLFF; a COLMAP model).
 Dataset loadDataset(const std::string& folder, const DatasetOptions& options = {});
 Dataset loadBlenderDataset(const std::string& folder, const DatasetOptions& options = {});
 Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options = {});
+Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& options = {});
 
 // water.json of the folder (defaults when absent) with the options' overrides applied.
 WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions& options = {});

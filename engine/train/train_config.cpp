@@ -127,6 +127,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
     const Rect& r = *c.datasetOptions.domain;
     d["domain"] = {r.xMin, r.yMin, r.xMax, r.yMax};
   }
+  if (c.datasetOptions.up) d["up"] = {c.datasetOptions.up->x, c.datasetOptions.up->y, c.datasetOptions.up->z};
   j["dataset_options"] = d;
   // resolved from the dataset and the cameras (engine/train/train_run.cpp resolveSceneConfig)
   j["ior"] = c.ior;
@@ -161,6 +162,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
       auto r = d["domain"];
       c.datasetOptions.domain = Rect{r.at(0).get<double>(), r.at(1).get<double>(), r.at(2).get<double>(), r.at(3).get<double>()};
     }
+    if (d.contains("up")) c.datasetOptions.up = glm::dvec3(d["up"].at(0).get<double>(), d["up"].at(1).get<double>(), d["up"].at(2).get<double>());
     c.ior = j.at("ior").get<double>();
     c.waterHeight = j.at("water_height").get<double>();
     c.depth = j.at("depth").get<double>();

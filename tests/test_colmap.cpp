@@ -1,0 +1,211 @@
+// COLMAP datasets (engine/dataset/colmap_model.h, engine/dataset/colmap.cpp): a synthetic
+// dataset's cameras written as a COLMAP model in a frame of COLMAP's own (rotated, scaled,
+// moved), with sparse points on the pool floor and the dry rim, must load as the same rig:
+// up recovered, the same angles and proportions, the water height found at the rim.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/base/error.h"
+#include "engine/dataset/colmap_model.h"
+#include "engine/dataset/dataset.h"
+#include "engine/io/atomic_file.h"
+#include "engine/io/image_io.h"
+#include "tests/train_test_util.h"
+
+using namespace refrax;
+namespace fs = std::filesystem;
+
+namespace {
+
+// COLMAP's frame from the dataset's: x_colmap = scale * rotation * x + shift.
+struct Similarity {
+  glm::dmat3 rotation;
+  double scale;
+  glm::dvec3 shift;
+  glm::dvec3 apply(const glm::dvec3& p) const { return scale * (rotation * p) + shift; }
+};
+
+Similarity someFrame() {
+  glm::dmat4 r = glm::rotate(glm::dmat4(1.0), 1.1, glm::normalize(glm::dvec3(0.3, -0.8, 0.5)));
+  return {glm::dmat3(r), 2.5, glm::dvec3(4.0, -1.5, 7.0)};
+}
+
+// The dataset's views as a COLMAP model in `frame`, images copied beside it; sparse points
+// on the floor (depth under the water) and on a rim at the water height (a fifth of them).
+ColmapModel writeAsColmap(const Dataset& d, const Similarity& frame, double waterHeight, const fs::path& out, bool binary) {
+  ColmapModel m;
+  fs::create_directories(out / "images");
+  fs::create_directories(out / "sparse/0");
+  uint32_t id = 1;
+  for (const char* split : {"train", "test"})
+    for (const View& v : d.split(split)) {
+      const Camera& c = v.camera;
+      ColmapCamera cam;
+      cam.id = id;
+      cam.model = id % 2 ? "PINHOLE" : "SIMPLE_PINHOLE";
+      cam.width = uint64_t(c.width);
+      cam.height = uint64_t(c.height);
+      cam.params = id % 2 ? std::vector<double>{c.fx, c.fy, c.cx, c.cy} : std::vector<double>{c.fx, c.cx, c.cy};
+      if (id % 2 == 0) REQUIRE(c.fx == c.fy);
+      m.cameras[id] = cam;
+      // camera-to-world in COLMAP's frame, OpenCV axes (x right, y down, z forward)
+      glm::dmat3 axes(frame.rotation * c.right(), -(frame.rotation * c.up()), -(frame.rotation * c.back()));
+      glm::dmat3 worldToCamera = glm::transpose(axes);
+      ColmapImage im;
+      im.id = id;
+      im.cameraId = id;
+      im.q = colmapQuaternion(worldToCamera);
+      im.t = -(worldToCamera * frame.apply(c.position()));
+      im.name = "view_" + std::to_string(id) + ".png";
+      writePng((out / "images" / im.name).string(), v.image);
+      m.images.push_back(im);
+      id++;
+    }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  for (int i = 0; i < 200; i++) {
+    ColmapPoint p;
+    const bool rim = i % 5 == 0;
+    p.position = frame.apply(glm::dvec3(u(rng), u(rng), rim ? waterHeight : waterHeight - 0.5 + 0.1 * u(rng)));
+    p.colour = glm::dvec3(0.5);
+    m.points.push_back(p);
+  }
+  writeColmapModel((out / "sparse/0").string(), m, binary);
+  return m;
+}
+
+double angleToZ(const glm::dvec3& v) { return std::acos(glm::clamp(glm::normalize(v).z, -1.0, 1.0)); }
+
+}  // namespace
+
+TEST_CASE("COLMAP model: text and binary files round-trip cameras, poses and points") {
+  test::TrainTempDir dir;
+  ColmapModel m;
+  m.cameras[3] = ColmapCamera{3, "PINHOLE", 640, 480, {500.5, 501.25, 320.1, 239.9}};
+  m.cameras[7] = ColmapCamera{7, "SIMPLE_PINHOLE", 64, 48, {60.0, 32.0, 24.0}};
+  m.images.push_back(ColmapImage{1, glm::normalize(glm::dvec4(0.9, 0.1, -0.3, 0.2)), glm::dvec3(0.5, -1.25, 3.0), 3, "a/b c.jpg"});
+  m.images.push_back(ColmapImage{9, glm::dvec4(1, 0, 0, 0), glm::dvec3(0), 7, "z.png"});
+  m.points.push_back(ColmapPoint{glm::dvec3(1, 2, 3), glm::dvec3(1, 0, 0), 0.5, 0});
+  for (bool binary : {false, true}) {
+    const std::string folder = dir / (binary ? "bin" : "txt");
+    fs::create_directories(folder);
+    writeColmapModel(folder, m, binary);
+    CHECK(fileExists(folder + (binary ? "/images.bin" : "/images.txt")));
+    ColmapModel back = readColmapModel(folder);
+    REQUIRE(back.cameras.size() == 2);
+    CHECK(back.cameras[3].params == m.cameras[3].params);
+    CHECK(back.cameras[7].model == "SIMPLE_PINHOLE");
+    REQUIRE(back.images.size() == 2);
+    CHECK(back.images[0].name == "a/b c.jpg");  // names may hold spaces
+    for (int k = 0; k < 4; k++) CHECK(back.images[0].q[k] == doctest::Approx(m.images[0].q[k]).epsilon(1e-15));
+    CHECK(back.images[0].t.y == -1.25);
+    CHECK(back.images[1].cameraId == 7);
+    REQUIRE(back.points.size() == 1);
+    CHECK(back.points[0].position.z == 3);
+  }
+  // the quaternion conventions: colmapRotation inverts colmapQuaternion
+  glm::dmat3 r = colmapRotation(m.images[0].q);
+  glm::dvec4 q = colmapQuaternion(r);
+  for (int k = 0; k < 4; k++) CHECK(q[k] == doctest::Approx(m.images[0].q[k]).epsilon(1e-12));
+  // malformed: a camera that names too few parameters, an image of an unknown camera, a cut file
+  writeTextAtomic(dir / "txt/cameras.txt", "1 PINHOLE 64 48 50 50 32\n");
+  CHECK_THROWS_WITH_AS(readColmapModel(dir / "txt"), doctest::Contains("has 3 parameters, the model has 4"), Error);
+  std::string images = readFile(dir / "bin/images.bin");
+  writeFileAtomic(dir / "bin/images.bin", images.data(), images.size() - 5);
+  CHECK_THROWS_WITH_AS(readColmapModel(dir / "bin"), doctest::Contains("images.bin: truncated"), Error);
+}
+
+TEST_CASE("COLMAP dataset: a rig in COLMAP's own frame loads with up, proportions and the water height recovered") {
+  test::TrainTempDir dir;
+  const std::string data = test::tinyDataset("nerfrac-primary-sine");
+  Dataset original = loadDataset(data);
+  REQUIRE(original.water.height);
+  const double water = *original.water.height;
+  const Similarity frame = someFrame();
+  for (bool binary : {true, false}) {
+    const fs::path folder = fs::path(dir.path) / (binary ? "colmap-bin" : "colmap-txt");
+    writeAsColmap(original, frame, water, folder, binary);
+    Dataset d = loadDataset(folder.string());
+    CHECK(d.format == "colmap");
+    std::vector<const View*> a, b;  // original and loaded, in the model's order (train then test, by id)
+    for (const char* split : {"train", "test"})
+      for (const View& v : original.split(split)) a.push_back(&v);
+    std::vector<const View*> loaded;
+    for (const auto& [name, views] : d.splits)
+      for (const View& v : views) loaded.push_back(&v);
+    REQUIRE(loaded.size() == a.size());
+    b.resize(a.size());
+    for (const View* v : loaded) {  // images/view_<id>.png, ids from 1 in a's order
+      size_t id = std::stoul(v->name.substr(v->name.find('_') + 1));
+      REQUIRE(id >= 1);
+      REQUIRE(id <= a.size());
+      b[id - 1] = v;
+    }
+    // Up recovered: every camera's tilt from the vertical is the original's.
+    for (size_t i = 0; i < a.size(); i++) {
+      INFO("view " << i);
+      CHECK(angleToZ(b[i]->camera.back()) == doctest::Approx(angleToZ(a[i]->camera.back())).epsilon(1e-6));
+      CHECK(b[i]->camera.fx == a[i]->camera.fx);
+      CHECK(b[i]->camera.cy == a[i]->camera.cy);
+      CHECK(b[i]->image.pixels == a[i]->image.pixels);
+    }
+    // Proportions: distances between cameras all scale by one factor; heights above the water too.
+    const double s = glm::length(b[1]->camera.position() - b[0]->camera.position()) /
+                     glm::length(a[1]->camera.position() - a[0]->camera.position());
+    for (size_t i = 2; i < a.size(); i++)
+      CHECK(glm::length(b[i]->camera.position() - b[0]->camera.position()) ==
+            doctest::Approx(s * glm::length(a[i]->camera.position() - a[0]->camera.position())).epsilon(1e-9));
+    // The water height found at the rim points: each camera as high above it as before (scaled).
+    REQUIRE(d.water.height);
+    for (size_t i = 0; i < a.size(); i++)
+      CHECK(b[i]->camera.position().z - *d.water.height == doctest::Approx(s * (a[i]->camera.position().z - water)).epsilon(1e-6));
+    bool explained = false;
+    for (const std::string& note : d.notes) explained = explained || note.find("estimated: the 95th percentile") != std::string::npos;
+    CHECK(explained);
+    if (!binary) continue;
+    // The CLI: inspect prints the derived frame; a short training run takes the folder.
+    test::CliResult inspect = test::runCli("inspect " + folder.string());
+    CHECK(inspect.exitCode == 0);
+    CHECK(inspect.output.find("(colmap)") != std::string::npos);
+    CHECK(inspect.output.find("frame: up (") != std::string::npos);
+    test::CliResult train = test::runCli("train " + folder.string() + " -o " + (dir / "run") +
+                                         " --steps 4 --gaussians 200 --patch 16 --checkpoint-every 0");
+    INFO(train.output);
+    CHECK(train.exitCode == 0);
+    CHECK(fileExists(dir / "run/metrics.json"));
+  }
+}
+
+TEST_CASE("COLMAP dataset: a distorted camera is refused with the fix, missing and extra images are counted") {
+  test::TrainTempDir dir;
+  const std::string data = test::tinyDataset("nerfrac-primary-sine");
+  Dataset original = loadDataset(data);
+  const fs::path folder = fs::path(dir.path) / "colmap";
+  ColmapModel m = writeAsColmap(original, someFrame(), *original.water.height, folder, false);
+
+  fs::remove(folder / "images" / m.images[0].name);                      // registered, not on disk
+  fs::copy_file(folder / "images" / m.images[1].name, folder / "images/extra.png");  // on disk, not registered
+  Dataset d = loadDataset(folder.string());
+  size_t views = 0;
+  for (const auto& [name, v] : d.splits) views += v.size();
+  CHECK(views == m.images.size() - 1);
+  std::string notes;
+  for (const std::string& n : d.notes) notes += n + "\n";
+  CHECK(notes.find("1 of the model's " + std::to_string(m.images.size()) + " images are not in") != std::string::npos);
+  CHECK(notes.find("1 files in") != std::string::npos);
+
+  ColmapCamera& distorted = m.cameras[m.images[1].cameraId];  // a camera of an image on disk
+  distorted.model = "OPENCV";
+  distorted.params = {50, 50, 32, 24, 0.1, 0.01, 0, 0};
+  writeColmapModel((folder / "sparse/0").string(), m, false);
+  CHECK_THROWS_WITH_AS(loadDataset(folder.string()), doctest::Contains("colmap image_undistorter"), Error);
+
+  DatasetOptions up;
+  up.up = glm::dvec3(0, 0, 1);
+  CHECK_THROWS_WITH_AS(loadDataset(data, up), doctest::Contains("--up applies to COLMAP datasets only"), Error);
+}
