@@ -14,7 +14,7 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/samples"
 "$REFRAX" interop-samples --output "$work/samples" --count 20 > /dev/null
 rm -rf "$out"
-for t in blender water_json npy ply gltf png checkpoint height_field; do mkdir -p "$out/$t"; done
+for t in blender water_json npy ply gltf png checkpoint height_field colmap; do mkdir -p "$out/$t"; done
 cp "$work/data/transforms_train.json" "$out/blender/train.json"
 cp "$work/data/transforms_test.json" "$out/blender/test.json"
 cp "$work/data/water.json" "$out/water_json/synth.json"
@@ -42,3 +42,15 @@ head -c -4 "$work/run/height_field.bin" > "$out/height_field/run.bin"
 mkdir -p "$out/dataset"
 cp -r "$work/data/train" "$work/data/test" "$out/dataset/"
 echo "seed corpus in $out: $(find "$out" -type f | wc -l) files"
+# COLMAP: the first byte chooses the file (fuzz/fuzz_colmap.cpp); one PINHOLE camera, one image,
+# one point, in text and in binary (little-endian: counts u64, ids u32, values f64)
+printf '\x00# a comment\n1 PINHOLE 64 48 50 50 32 24\n2 SIMPLE_PINHOLE 64 48 50 32 24\n' > "$out/colmap/cameras.txt"
+printf '\x011 1 0 0 0 0.5 -0.25 1 1 a b.png\n10 20 -1 11 21 1\n' > "$out/colmap/images.txt"
+printf '\x021 0 0 -1 128 64 255 0.5 1 0 2 3\n' > "$out/colmap/points3D.txt"
+f64_0='\x00\x00\x00\x00\x00\x00\x00\x00'
+printf '\x03\x01\x00\x00\x00\x00\x00\x00\x00''\x01\x00\x00\x00''\x01\x00\x00\x00''\x40\x00\x00\x00\x00\x00\x00\x00''\x30\x00\x00\x00\x00\x00\x00\x00'\
+'\x00\x00\x00\x00\x00\x00\x49\x40''\x00\x00\x00\x00\x00\x00\x49\x40''\x00\x00\x00\x00\x00\x00\x40\x40''\x00\x00\x00\x00\x00\x00\x38\x40' > "$out/colmap/cameras.bin"
+printf '\x04\x01\x00\x00\x00\x00\x00\x00\x00''\x01\x00\x00\x00''\x00\x00\x00\x00\x00\x00\xf0\x3f'"$f64_0$f64_0$f64_0$f64_0$f64_0$f64_0"\
+'\x01\x00\x00\x00''a.png\x00''\x00\x00\x00\x00\x00\x00\x00\x00' > "$out/colmap/images.bin"
+printf '\x05\x01\x00\x00\x00\x00\x00\x00\x00''\x01\x00\x00\x00\x00\x00\x00\x00'"$f64_0$f64_0"'\x00\x00\x00\x00\x00\x00\xf0\xbf''\x80\x40\xff'\
+'\x00\x00\x00\x00\x00\x00\xe0\x3f''\x00\x00\x00\x00\x00\x00\x00\x00' > "$out/colmap/points3D.bin"

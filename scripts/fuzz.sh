@@ -2,13 +2,13 @@
 # Fuzzes every loader of user files (fuzz/README.md) with libFuzzer under ASan+UBSan.
 #   scripts/fuzz.sh                 each target for 2,000 executions from the seed corpus (CI's regression pass)
 #   scripts/fuzz.sh --runs N        N executions per target (the issue's bar: 1,000,000)
-#   scripts/fuzz.sh --target NAME   one target (blender water_json npy ply gltf png checkpoint height_field)
+#   scripts/fuzz.sh --target NAME   one target (blender water_json npy ply gltf png checkpoint height_field colmap)
 # The seed corpus is made by build/refrax (built by scripts/test.sh or scripts/demo.sh first);
 # what a run finds is left in build-fuzz/findings/. Prints each target's executions.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=2000
-targets=(blender water_json npy ply gltf png checkpoint height_field)
+targets=(blender water_json npy ply gltf png checkpoint height_field colmap)
 while [ $# -gt 0 ]; do
   case $1 in
     --runs) [[ ${2:-} =~ ^[0-9]+$ ]] || { echo "fuzz: --runs needs a count" >&2; exit 2; }; runs=$2; shift ;;
@@ -29,8 +29,11 @@ for t in "${targets[@]}"; do
   corpus=build-fuzz/corpus/$t
   mkdir -p "$corpus"
   # libFuzzer adds what it learns to the first folder; the seeds stay as they are
+  # fuzz/regressions/<target>/: the inputs past runs found, each fixed; they run first, every time
+  regressions=()
+  [ -d fuzz/regressions/"$t" ] && regressions=(fuzz/regressions/"$t")
   if REFRAX_FUZZ_DATASET=$PWD/build-fuzz/seeds/dataset ./build-fuzz/fuzz_$t -runs="$runs" -max_len=131072 -timeout=20 -rss_limit_mb=4096 \
-       -artifact_prefix=build-fuzz/findings/"$t"- "$corpus" build-fuzz/seeds/"$t" > build-fuzz/"$t".log 2>&1; then
+       -artifact_prefix=build-fuzz/findings/"$t"- "$corpus" build-fuzz/seeds/"$t" "${regressions[@]}" > build-fuzz/"$t".log 2>&1; then
     echo "fuzz $t: $(grep -o 'Done [0-9]* runs' build-fuzz/"$t".log | tail -n 1), no finding"
   else
     echo "fuzz $t: FINDING (build-fuzz/$t.log, build-fuzz/findings/)"
