@@ -124,6 +124,13 @@ TEST_CASE("refrax-view shows a trained run's dataset camera as refrax render doe
       REQUIRE(w.exitCode == 0);
       CHECK(w.output.find("validation messages: 0") != std::string::npos);
       CHECK(maxDifference(readPng(bvhShot), b) <= 1.0 / 255.0);
+      // Without --view the viewer opens at the first test camera (it opened at a free camera
+      // outside the rig, where a trained scene is all floaters): the same image.
+      std::string defaultShot = dir / "view-default.png";
+      auto d = runShell(viewer(run + " --size 64 --frames 3 --exact-water --screenshot " + defaultShot));
+      INFO(d.output);
+      REQUIRE(d.exitCode == 0);
+      CHECK(maxDifference(readPng(defaultShot), b) <= 1.0 / 255.0);
     }
   }
   // and the comparison can tell the water modes apart (20 steps leave a dim scene: measured
