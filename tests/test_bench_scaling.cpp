@@ -13,7 +13,7 @@
 using namespace refrax;
 namespace fs = std::filesystem;
 
-TEST_CASE("bench scaling: one CSV row per setting with positive step and frame times and peak memory") {
+TEST_CASE("bench scaling: one CSV row per setting with positive step and frame times and peak memory" * doctest::test_suite("one-backend")) {
   test::TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   test::CliResult r = test::runCli("bench scaling --datasets " + data + " --gaussians 300 --grid-cells 16 --base-gaussians 400 " +

@@ -120,7 +120,7 @@ TEST_CASE("COLMAP model: text and binary files round-trip cameras, poses and poi
   CHECK_THROWS_WITH_AS(readColmapModel(dir / "bin"), doctest::Contains("images.bin: truncated"), Error);
 }
 
-TEST_CASE("COLMAP dataset: a rig in COLMAP's own frame loads with up, proportions and the water height recovered") {
+TEST_CASE("COLMAP dataset: a rig in COLMAP's own frame loads with up, proportions and the water height recovered" * doctest::test_suite("one-backend")) {
   test::TrainTempDir dir;
   const std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset original = loadDataset(data);
@@ -181,7 +181,7 @@ TEST_CASE("COLMAP dataset: a rig in COLMAP's own frame loads with up, proportion
   }
 }
 
-TEST_CASE("COLMAP dataset: a distorted camera is refused with the fix, missing and extra images are counted") {
+TEST_CASE("COLMAP dataset: a distorted camera is refused with the fix, missing and extra images are counted" * doctest::test_suite("one-backend")) {
   test::TrainTempDir dir;
   const std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset original = loadDataset(data);

@@ -35,7 +35,7 @@ void checkOneError(const test::CliResult& r, const std::string& words) {
 
 }  // namespace
 
-TEST_CASE("a surface that leaves the scene stops training with a clear message, not a normal run") {
+TEST_CASE("a surface that leaves the scene stops training with a clear message, not a normal run" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   test::CliResult r = test::runCli("train " + data + " -o " + (dir / "r") +
@@ -47,7 +47,7 @@ TEST_CASE("a surface that leaves the scene stops training with a clear message, 
   CHECK(!fs::exists(dir / "r/metrics.json"));
 }
 
-TEST_CASE("--resume takes more steps, and refuses options that would change the run") {
+TEST_CASE("--resume takes more steps, and refuses options that would change the run" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   std::string run = dir / "r";

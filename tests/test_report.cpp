@@ -121,7 +121,7 @@ TEST_CASE("report: one row per run, or per evaluation, with empty cells for what
   CHECK(bad.output.find("refrax: error: " + dir / "missing" + " has no metrics.json") != std::string::npos);
 }
 
-TEST_CASE("train: --eval-every records each evaluation with its training seconds, and report charts them") {
+TEST_CASE("train: --eval-every records each evaluation with its training seconds, and report charts them" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   nlohmann::json m = test::trainAndReadMetrics(data, dir / "run",
@@ -154,7 +154,7 @@ TEST_CASE("train: --eval-every records each evaluation with its training seconds
   CHECK(readFile(dir / "curve.svg").find("data-series=\"defaults\"") != std::string::npos);
 }
 
-GPU_TEST_CASE("train: --density-loss weighs the density loss, 0 switches it off, and survives config.json") {
+GPU_TEST_CASE("train: --density-loss weighs the density loss, 0 switches it off, and survives config.json" * doctest::test_suite("one-backend")) {
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset d;
   TrainConfig base = test::sessionConfig(data, 10, 200, 16, rng(), d);

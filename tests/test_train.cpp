@@ -173,7 +173,7 @@ TEST_CASE("train: refraction beats straight rays and halves the flat surface err
   CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
 }
 
-GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterrupted run ends") {
+GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterrupted run ends" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset d;
@@ -218,7 +218,7 @@ GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterr
   CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
 }
 
-GPU_TEST_CASE("train: --restart-gaussians draws the Gaussians afresh at its step, the same after a resume, and is validated") {
+GPU_TEST_CASE("train: --restart-gaussians draws the Gaussians afresh at its step, the same after a resume, and is validated" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset d;
@@ -299,7 +299,7 @@ void expectCleanFailure(const std::string& dataset, const std::string& run, cons
   CHECK(!fs::exists(run));
 }
 
-TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refuses a surface it cannot hold") {
+TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refuses a surface it cannot hold" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   nlohmann::json m = test::trainAndReadMetrics(data, dir / "known", " --known-water --steps 20 --gaussians 500 --patch 16 --checkpoint-every 0");
@@ -326,7 +326,7 @@ TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refus
   expectCleanFailure(test::tinyDataset("nerfrac-hybrid"), dir / "hybrid", "radial ripples", " --known-water");
 }
 
-TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives config.json, and is validated") {
+TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives config.json, and is validated" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   // Adam's first step moves each parameter by the learning rate (|m / sqrt(v)| = 1), so a flat
@@ -355,7 +355,7 @@ LearnedHeights learnedHeights(const fs::path& run) {
   return {std::vector<float>(h.data.begin(), h.data.end()), GridLayout{n - 1, n - 1, n, 0, 1.0, 1.0}};
 }
 
-TEST_CASE("train: --surface-batch steps the surface once per N steps, survives config.json, and is validated") {
+TEST_CASE("train: --surface-batch steps the surface once per N steps, survives config.json, and is validated" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   // The flat plane learns from step 0; with N = 3 its first Adam step (a move of exactly the
@@ -406,7 +406,7 @@ TEST_CASE("train: --surface-batch steps the surface once per N steps, survives c
   }
 }
 
-GPU_TEST_CASE("train: a checkpoint in the middle of a --surface-batch sum resumes with the sum") {
+GPU_TEST_CASE("train: a checkpoint in the middle of a --surface-batch sum resumes with the sum" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset d;
@@ -470,7 +470,7 @@ void checkPriorLowersItsEnergy(const std::string& priorFlag, const char* energyN
   CHECK(prior < 0.5 * start);
 }
 
-TEST_CASE("train: --surface-smoothness pulls a rough surface toward flat, survives config.json, and is validated") {
+TEST_CASE("train: --surface-smoothness pulls a rough surface toward flat, survives config.json, and is validated" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   checkPriorLowersItsEnergy("--surface-smoothness 100", "slope energy (unit spacing)", [](const fs::path& run) {
     LearnedHeights h = learnedHeights(run);
@@ -479,7 +479,7 @@ TEST_CASE("train: --surface-smoothness pulls a rough surface toward flat, surviv
   checkPriorWeightKeptAndValidated(dir / "prior", 100.0, dir / "free", &TrainConfig::surfaceSmoothness);
 }
 
-TEST_CASE("train: --level-prior pulls a tilted, bowled surface level, survives config.json, and is validated") {
+TEST_CASE("train: --level-prior pulls a tilted, bowled surface level, survives config.json, and is validated" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   checkPriorLowersItsEnergy("--level-prior 1000", "tilt and bowl mean square", [](const fs::path& run) {
     // Over the central half of the domain (each side), which the tiny rig's views all see.
@@ -493,7 +493,7 @@ TEST_CASE("train: --level-prior pulls a tilted, bowled surface level, survives c
   checkPriorWeightKeptAndValidated(dir / "prior", 1000.0, dir / "free", &TrainConfig::levelPrior);
 }
 
-TEST_CASE("train: the height encoding opens coarse to fine between the surface freeze and --octaves-open-until") {
+TEST_CASE("train: the height encoding opens coarse to fine between the surface freeze and --octaves-open-until" * doctest::test_suite("one-backend")) {
   TrainConfig c;
   c.steps = 15000;
   resolveSchedule(c);
@@ -533,7 +533,7 @@ TEST_CASE("train: the height encoding opens coarse to fine between the surface f
   CHECK(hf.config.encodingWindow == doctest::Approx((3.0 + 3.0 * 5.0 / 100.0) / 6.0).epsilon(1e-6));
 }
 
-TEST_CASE("train: --anchor-mean-height keeps the mean height the training views see at the given height") {
+TEST_CASE("train: --anchor-mean-height keeps the mean height the training views see at the given height" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   // A wavy initial field (init range 0.1) whose mean is off the water height (0), learning
@@ -578,7 +578,7 @@ TEST_CASE("train: --anchor-mean-height keeps the mean height the training views 
   CHECK(trainConfigFromJson(readJson(dir / "anchored/config.json"), "config.json").anchorMeanHeight);
 }
 
-TEST_CASE("train: bad datasets give one clear error and leave no run folder") {
+TEST_CASE("train: bad datasets give one clear error and leave no run folder" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   auto copy = [&](const std::string& name) {

@@ -46,7 +46,7 @@ TEST_CASE("train views: the spread takes the first and the last and is even in b
   CHECK_THROWS_WITH_AS(spreadViewIndices(8, 9), doctest::Contains("--train-views must be between 1 and 8"), Error);
 }
 
-GPU_TEST_CASE("train: --train-views N trains on N of the views, survives config.json and a resume, and is validated") {
+GPU_TEST_CASE("train: --train-views N trains on N of the views, survives config.json and a resume, and is validated" * doctest::test_suite("one-backend")) {
   test::TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset full = loadDataset(data);
