@@ -127,7 +127,7 @@ Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& optio
   ColmapModel m = readColmapModel(model);
   if (m.images.empty()) fail("COLMAP model " + model + " has no registered images");
   const int factor = options.llffFactor;
-  const std::string imageDir = folder + (factor == 1 ? "/images" : "/images_" + std::to_string(factor));
+  const std::string imageDir = imageFolder(folder, factor);
   if (!fs::is_directory(imageDir)) fail("COLMAP dataset " + folder + ": no image folder " + imageDir);
   Dataset d;
   d.root = folder;

@@ -25,6 +25,10 @@ Dataset loadDataset(const std::string& folder, const DatasetOptions& options) {
        "(sparse/0/cameras.bin or .txt)");
 }
 
+std::string imageFolder(const std::string& folder, int factor) {
+  return folder + (factor == 1 ? "/images" : "/images_" + std::to_string(factor));
+}
+
 void validateCameraToWorld(const glm::dmat4& m, const std::string& where) {
   for (int c = 0; c < 4; c++)
     for (int r = 0; r < 4; r++)

@@ -128,6 +128,9 @@ Dataset loadBlenderDataset(const std::string& folder, const DatasetOptions& opti
 Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options = {});
 Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& options = {});
 
+// The image folder of an LLFF or COLMAP dataset: images/, or images_<factor>/ (--llff-factor).
+std::string imageFolder(const std::string& folder, int factor);
+
 // water.json of the folder (defaults when absent) with the options' overrides applied.
 WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions& options = {});
 

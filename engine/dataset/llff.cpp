@@ -128,7 +128,7 @@ Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options
   if (pb.integer) fail(npyPath + " holds integers: LLFF poses and bounds are float32 or float64 (integer rounding would move the cameras)");
   const size_t n = pb.shape[0];
   if (n == 0) fail(npyPath + ": no poses");
-  const std::string imageDir = folder + (options.llffFactor == 1 ? "/images" : "/images_" + std::to_string(options.llffFactor));
+  const std::string imageDir = imageFolder(folder, options.llffFactor);
   if (!fs::is_directory(imageDir)) fail("LLFF dataset " + folder + ": no image folder " + imageDir);
   std::vector<std::string> files = imageFiles(imageDir);
   if (files.size() != n)
