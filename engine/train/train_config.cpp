@@ -148,6 +148,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
 
 TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& where) {
   TrainConfig c;
+  if (!j.is_object()) fail(where + ": not a training configuration (not a JSON object)");
   try {
     c.dataset = j.at("dataset").get<std::string>();
     const auto& d = j.at("dataset_options");
@@ -176,7 +177,6 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
   } catch (const nlohmann::json::exception& e) {
     fail(where + ": not a training configuration (" + e.what() + ")");
   }
-  if (!j.is_object()) fail(where + ": not a training configuration (not a JSON object)");
   // Every option from the table; one absent from an older run keeps its default.
   for (const TrainOption& o : trainOptionTable()) {
     if (o.key.empty()) continue;
