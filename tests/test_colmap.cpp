@@ -209,3 +209,96 @@ TEST_CASE("COLMAP dataset: a distorted camera is refused with the fix, missing a
   up.up = glm::dvec3(0, 0, 1);
   CHECK_THROWS_WITH_AS(loadDataset(data, up), doctest::Contains("--up applies to COLMAP datasets only"), Error);
 }
+
+TEST_CASE("COLMAP dataset: a low ring of cameras takes up from the plane of their centres" * doctest::test_suite("one-backend")) {
+  // Eight cameras 15 degrees above the horizon looking at a point off the centre: their
+  // viewing directions agree to only about sin(15) = 0.26, so up is the normal of the plane
+  // through their centres (their mean viewing direction is tilted by the off-centre target).
+  test::TrainTempDir dir;
+  Dataset ring;
+  ring.splits["train"];
+  for (int i = 0; i < 8; i++) {
+    const double a = 2 * M_PI * i / 8, e = 15 * M_PI / 180;
+    const glm::dvec3 eye(2 * std::cos(e) * std::cos(a), 2 * std::cos(e) * std::sin(a), 2 * std::sin(e));
+    const glm::dvec3 back = glm::normalize(eye - glm::dvec3(0.7, 0.3, 0)), right = glm::normalize(glm::cross(glm::dvec3(0, 0, 1), back));
+    View v;
+    v.camera.cameraToWorld = glm::dmat4(glm::dvec4(right, 0), glm::dvec4(glm::cross(back, right), 0), glm::dvec4(back, 0), glm::dvec4(eye, 1));
+    v.camera.width = v.camera.height = 8;
+    v.camera.fx = v.camera.fy = 8;
+    v.camera.cx = v.camera.cy = 4;
+    v.image = Image{8, 8, 3, std::vector<float>(8 * 8 * 3, 0.5f)};
+    ring.splits["train"].push_back(v);
+  }
+  ring.splits["test"];
+  const Similarity frame = someFrame();
+  const fs::path folder = fs::path(dir.path) / "ring";
+  writeAsColmap(ring, frame, -0.2, folder, true);
+  Dataset d = loadDataset(folder.string());
+  // The loaded frame's +Z is the original up: every camera keeps its angle to the vertical.
+  const glm::dvec3 up = glm::transpose(glm::dmat3(d.normalization)) * glm::dvec3(0, 0, 1);
+  CHECK(glm::dot(glm::normalize(up), frame.rotation * glm::dvec3(0, 0, 1)) == doctest::Approx(1).epsilon(1e-9));
+  for (const auto& [split, views] : d.splits)
+    for (const View& v : views) {
+    const size_t id = std::stoul(v.name.substr(v.name.find('_') + 1));  // images/view_<id>.png, ids from 1
+    CHECK(angleToZ(v.camera.back()) == doctest::Approx(angleToZ(ring.split("train")[id - 1].camera.back())).epsilon(1e-9));
+    }
+  bool plane = false;
+  for (const std::string& note : d.notes) plane = plane || note.find("the normal of the plane of the camera centres") != std::string::npos;
+  CHECK(plane);
+}
+
+TEST_CASE("Test views: named by index or file name in LLFF and COLMAP datasets, refused where they cannot apply" * doctest::test_suite("one-backend")) {
+  test::TrainTempDir dir;
+  const std::string data = test::tinyDataset("nerfrac-primary-sine");  // written as LLFF beside the Blender files
+  Dataset all = loadLlffDataset(data);
+  REQUIRE(all.format == "llff");
+  const size_t n = all.split("train").size() + all.split("test").size();
+  REQUIRE(n >= 5);
+  DatasetOptions centre;
+  centre.testViews = {"4"};  // NeRFrac's protocol: the centre view of nine
+  Dataset d = loadLlffDataset(data, centre);
+  REQUIRE(d.split("test").size() == 1);
+  CHECK(d.split("train").size() == n - 1);
+  std::vector<std::string> names;
+  for (const char* split : {"train", "test"})
+    for (const View& v : all.split(split)) names.push_back(v.name);
+  std::sort(names.begin(), names.end());
+  CHECK(d.split("test")[0].name == names[4]);
+  // by file name (as the image folder lists it), two at once
+  DatasetOptions byName;
+  byName.testViews = {fs::path(names[1]).filename().string(), "3"};
+  Dataset two = loadLlffDataset(data, byName);
+  REQUIRE(two.split("test").size() == 2);
+  CHECK(two.split("test")[0].name == names[1]);
+  CHECK(two.split("test")[1].name == names[3]);
+  // no match, every view held out, a Blender dataset, both flags on the command line
+  DatasetOptions bad;
+  bad.testViews = {std::to_string(n)};
+  const std::string noSuchIndex = "--test-views: '" + std::to_string(n) + "' is neither an image";
+  CHECK_THROWS_WITH_AS(loadLlffDataset(data, bad), doctest::Contains(noSuchIndex.c_str()), Error);
+  bad.testViews = {"nope.png"};
+  CHECK_THROWS_WITH_AS(loadLlffDataset(data, bad), doctest::Contains("--test-views: 'nope.png'"), Error);
+  bad.testViews.clear();
+  for (size_t i = 0; i < n; i++) bad.testViews.push_back(std::to_string(i));
+  CHECK_THROWS_WITH_AS(loadLlffDataset(data, bad), doctest::Contains("no training views remain"), Error);
+  CHECK_THROWS_WITH_AS(loadDataset(data, centre), doctest::Contains("applies to LLFF and COLMAP"), Error);
+  test::CliResult both = test::runCli("inspect " + data + " --test-views 4 --llff-hold 2");
+  CHECK(both.exitCode != 0);
+  CHECK(both.output.find("give one") != std::string::npos);
+
+  // COLMAP: the same selection over the registered images in name order
+  const fs::path folder = fs::path(dir.path) / "colmap";
+  ColmapModel m = writeAsColmap(all, someFrame(), *all.water.height, folder, true);
+  std::vector<std::string> colmapNames;
+  for (const ColmapImage& im : m.images) colmapNames.push_back(im.name);
+  std::sort(colmapNames.begin(), colmapNames.end());
+  Dataset c = loadDataset(folder.string(), centre);
+  REQUIRE(c.split("test").size() == 1);
+  CHECK(c.split("test")[0].name == "images/" + colmapNames[4]);
+  // the choice travels with the run: config.json keeps it, and `refrax eval` evaluates the same view
+  test::CliResult train = test::runCli("train " + folder.string() + " --test-views " + colmapNames[2] + " -o " + (dir / "run") +
+                                       " --steps 2 --gaussians 100 --patch 8 --checkpoint-every 0");
+  INFO(train.output);
+  REQUIRE(train.exitCode == 0);
+  CHECK(readFile(dir / "run/config.json").find("\"test_views\"") != std::string::npos);
+}

@@ -18,6 +18,8 @@ std::vector<cli::Option> datasetOptions() {
       {"background", "R,G,B", "colour RGBA images are composited on, in [0,1]", "0,0,0"},
       {"llff-factor", "N", "LLFF and COLMAP: read images_<N>/ (1: images/)", "1"},
       {"llff-hold", "N", "LLFF and COLMAP: every N-th image (from the first) is a test view", "8"},
+      {"test-views", "LIST", "LLFF and COLMAP: the test views instead, by index in name order (from 0) or file name, comma-separated "
+                             "(NeRFrac's real scenes: 4)", "every --llff-hold-th"},
       {"up", "X,Y,Z", "COLMAP: the water's up (toward the cameras) in the model's frame", "derived from the cameras"},
   };
 }
@@ -61,6 +63,15 @@ DatasetOptions datasetOptionsFrom(const cli::Args& args) {
   }
   o.llffFactor = int(args.getInt("llff-factor", 1));
   o.llffHold = int(args.getInt("llff-hold", 8));
+  if (args.has("test-views")) {
+    if (args.has("llff-hold")) fail("--test-views and --llff-hold both choose the test views: give one");
+    std::stringstream list(args.get("test-views"));
+    for (std::string item; std::getline(list, item, ',');) {
+      if (item.empty()) fail("--test-views expects a comma-separated list of indices or file names, got '" + args.get("test-views") + "'");
+      o.testViews.push_back(item);
+    }
+    if (o.testViews.empty()) fail("--test-views expects a comma-separated list of indices or file names, got ''");
+  }
   return o;
 }
 

@@ -150,6 +150,9 @@ Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& optio
   if (missing) d.notes.push_back(std::to_string(missing) + " of the model's " + std::to_string(m.images.size()) + " images are not in " + imageDir + ": left out");
   if (unregistered) d.notes.push_back(std::to_string(unregistered) + " files in " + imageDir + " are not registered in the model: left out");
   if (present.size() < 2) fail("COLMAP dataset " + folder + ": " + std::to_string(present.size()) + " registered images found in " + imageDir + " (at least 2 needed)");
+  std::vector<std::string> presentNames;
+  for (const ColmapImage& im : present) presentNames.push_back(im.name);
+  const std::vector<bool> test = testViewFlags(presentNames, options, "COLMAP dataset " + folder);
 
   // The water's frame: up to +Z, the mean camera over the origin, one unit the cameras' median
   // height above the sparse points (the scene), the water height from the options or estimated.
@@ -211,9 +214,8 @@ Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& optio
       fail(where + ": the image is " + std::to_string(v.image.width) + " x " + std::to_string(v.image.height) + ", the camera " +
            std::to_string(v.camera.width) + " x " + std::to_string(v.camera.height) + (factor > 1 ? " (its size / " + std::to_string(factor) + ")" : ""));
     v.camera.width = v.image.width, v.camera.height = v.image.height;
-    d.splits[options.llffHold > 0 && i % size_t(options.llffHold) == 0 ? "test" : "train"].push_back(std::move(v));
+    d.splits[test[i] ? "test" : "train"].push_back(std::move(v));
   }
-  if (d.splits["train"].empty()) fail("COLMAP dataset " + folder + ": no training views remain after holding out every " + std::to_string(options.llffHold) + "th");
   return d;
 }
 

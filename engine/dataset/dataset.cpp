@@ -1,6 +1,8 @@
 #include "engine/dataset/dataset.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "engine/base/error.h"
 #include "engine/dataset/colmap_model.h"
@@ -18,11 +20,38 @@ Dataset loadDataset(const std::string& folder, const DatasetOptions& options) {
   const bool colmap = hasColmapModel(folder + "/sparse/0") || hasColmapModel(folder + "/sparse") || hasColmapModel(folder);
   if (options.up && (!colmap || fileExists(folder + "/transforms_train.json") || fileExists(folder + "/poses_bounds.npy")))
     fail("--up applies to COLMAP datasets only (" + folder + " is not one)");
+  if (!options.testViews.empty() && fileExists(folder + "/transforms_train.json"))
+    fail("--test-views applies to LLFF and COLMAP datasets (" + folder + " is a Blender dataset: its test views are transforms_test.json's)");
   if (fileExists(folder + "/transforms_train.json")) return loadBlenderDataset(folder, options);
   if (fileExists(folder + "/poses_bounds.npy")) return loadLlffDataset(folder, options);
   if (colmap) return loadColmapDataset(folder, options);
   fail("no dataset in " + folder + ": expected transforms_train.json (NeRF/Blender), poses_bounds.npy (LLFF) or a COLMAP model "
        "(sparse/0/cameras.bin or .txt)");
+}
+
+std::vector<bool> testViewFlags(const std::vector<std::string>& files, const DatasetOptions& options, const std::string& where) {
+  std::vector<bool> test(files.size(), false);
+  if (options.testViews.empty()) {
+    if (options.llffHold < 1) fail("--llff-hold must be at least 1, got " + std::to_string(options.llffHold));
+    for (size_t i = 0; i < files.size(); i += size_t(options.llffHold)) test[i] = true;
+  } else {
+    for (const std::string& name : options.testViews) {
+      size_t index = files.size();
+      char* end = nullptr;
+      const unsigned long long n = std::strtoull(name.c_str(), &end, 10);
+      if (!name.empty() && name[0] != '-' && !*end) index = size_t(n);  // an index
+      for (size_t i = 0; i < files.size() && index == files.size(); i++)
+        if (files[i] == name) index = i;
+      if (index >= files.size())
+        fail("--test-views: '" + name + "' is neither an image of " + where + " nor an index below its " + std::to_string(files.size()) +
+             " images");
+      test[index] = true;
+    }
+  }
+  if (std::find(test.begin(), test.end(), false) == test.end())
+    fail(where + ": no training views remain after holding out " +
+         (options.testViews.empty() ? "every " + std::to_string(options.llffHold) + "th image" : "the --test-views"));
+  return test;
 }
 
 std::string imageFolder(const std::string& folder, int factor) {

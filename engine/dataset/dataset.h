@@ -28,8 +28,9 @@
 //      identity: every camera-to-world becomes inverse(A) * C. So the mean camera sits at the
 //      origin looking down -Z: for cameras looking down at water, Z is up.
 //   Dataset::normalization holds the whole map, world_loaded = normalization * world_original.
-//   Images are sorted by file name and paired with the rows in order. Test views: every
-//   llffHold-th image from the first (0, 8, 16, ... for the default 8), the others train.
+//   Images are sorted by file name and paired with the rows in order. Test views: those named
+//   by testViews, else every llffHold-th image from the first (0, 8, 16, ... for the default
+//   8); the others train.
 //
 // COLMAP (a sparse model in sparse/0/, sparse/ or the folder itself: cameras, images and
 //   points3D as .bin or .txt, engine/dataset/colmap_model.h; images in images/ or images_<N>/
@@ -47,7 +48,7 @@
 //   4. The water height: --water-height or water.json (in this loaded frame), else the 95th
 //      percentile of the sparse points' heights, taken as the dry rim around the water
 //      (points seen through the water appear lower); an error when there are no points.
-//   Test views: every llffHold-th image in name order, from the first, as LLFF.
+//   Test views: as LLFF (testViews, else every llffHold-th image in name order).
 //   `refrax inspect` prints the derived frame (Dataset::notes).
 //
 // water.json (optional, in the dataset folder; values in the loaded world frame): {"ior": 1.33,
@@ -105,6 +106,9 @@ struct DatasetOptions {
   glm::dvec3 background{0.0, 0.0, 0.0};  // for RGBA images
   int llffFactor = 1;                    // images_<factor>/ (1: images/)
   int llffHold = 8;                      // every llffHold-th LLFF image is a test view
+  // LLFF and COLMAP: the test views by index in name order (from 0) or by file name, in
+  // place of llffHold (NeRFrac's protocol: {"4"}, the centre of its nine views).
+  std::vector<std::string> testViews;
   // Overrides of water.json (command-line options).
   std::optional<double> ior, waterHeight, waterDepth;
   std::optional<Rect> domain;
@@ -127,6 +131,12 @@ Dataset loadDataset(const std::string& folder, const DatasetOptions& options = {
 Dataset loadBlenderDataset(const std::string& folder, const DatasetOptions& options = {});
 Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options = {});
 Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& options = {});
+
+// Which of an LLFF or COLMAP dataset's images (file names in name order) are test views:
+// options.testViews when given (each an index from 0 or a file name; refrax::Error naming
+// --test-views for one that matches no image, and when no training view would remain), else
+// every llffHold-th from the first (refrax::Error below 1).
+std::vector<bool> testViewFlags(const std::vector<std::string>& files, const DatasetOptions& options, const std::string& where);
 
 // The image folder of an LLFF or COLMAP dataset: images/, or images_<factor>/ (--llff-factor).
 std::string imageFolder(const std::string& folder, int factor);

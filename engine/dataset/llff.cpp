@@ -133,7 +133,7 @@ Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options
   std::vector<std::string> files = imageFiles(imageDir);
   if (files.size() != n)
     fail(imageDir + " holds " + std::to_string(files.size()) + " images but " + npyPath + " has " + std::to_string(n) + " poses");
-  if (options.llffHold < 1) fail("the LLFF hold-out interval must be at least 1");
+  const std::vector<bool> test = testViewFlags(files, options, "LLFF dataset " + folder);
 
   std::vector<Image> images;
   for (size_t i = 0; i < n; i++) {
@@ -154,9 +154,8 @@ Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options
     v.image = std::move(images[i]);
     v.nearBound = cams.nearBounds[i];
     v.farBound = cams.farBounds[i];
-    d.splits[i % size_t(options.llffHold) == 0 ? "test" : "train"].push_back(std::move(v));
+    d.splits[test[i] ? "test" : "train"].push_back(std::move(v));
   }
-  if (d.splits["train"].empty()) fail("LLFF dataset " + folder + ": no training views remain after holding out every " + std::to_string(options.llffHold) + "th");
   d.water = water;
   return d;
 }

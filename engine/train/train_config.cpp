@@ -120,6 +120,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   d["background"] = {c.datasetOptions.background.x, c.datasetOptions.background.y, c.datasetOptions.background.z};
   d["llff_factor"] = c.datasetOptions.llffFactor;
   d["llff_hold"] = c.datasetOptions.llffHold;
+  if (!c.datasetOptions.testViews.empty()) d["test_views"] = c.datasetOptions.testViews;
   if (c.datasetOptions.ior) d["ior"] = *c.datasetOptions.ior;
   if (c.datasetOptions.waterHeight) d["water_height"] = *c.datasetOptions.waterHeight;
   if (c.datasetOptions.waterDepth) d["water_depth"] = *c.datasetOptions.waterDepth;
@@ -156,6 +157,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     c.datasetOptions.background = glm::dvec3(bg.at(0).get<double>(), bg.at(1).get<double>(), bg.at(2).get<double>());
     c.datasetOptions.llffFactor = d.at("llff_factor").get<int>();
     c.datasetOptions.llffHold = d.at("llff_hold").get<int>();
+    if (d.contains("test_views")) c.datasetOptions.testViews = d["test_views"].get<std::vector<std::string>>();
     if (d.contains("ior")) c.datasetOptions.ior = d["ior"].get<double>();
     if (d.contains("water_height")) c.datasetOptions.waterHeight = d["water_height"].get<double>();
     if (d.contains("water_depth")) c.datasetOptions.waterDepth = d["water_depth"].get<double>();
