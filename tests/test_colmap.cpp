@@ -15,6 +15,8 @@
 #include "engine/dataset/dataset.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
+#include "engine/gaussian/gaussian_math.h"
+#include "engine/train/init_gaussians.h"
 #include "tests/train_test_util.h"
 
 using namespace refrax;
@@ -173,11 +175,14 @@ TEST_CASE("COLMAP dataset: a rig in COLMAP's own frame loads with up, proportion
     CHECK(inspect.exitCode == 0);
     CHECK(inspect.output.find("(colmap)") != std::string::npos);
     CHECK(inspect.output.find("frame: up (") != std::string::npos);
+    // --init-points: the Gaussians start at the floor's points (40 of the 200 are the rim's, above the water)
     test::CliResult train = test::runCli("train " + folder.string() + " -o " + (dir / "run") +
-                                         " --steps 4 --gaussians 200 --patch 16 --checkpoint-every 0");
+                                         " --steps 4 --gaussians 200 --patch 16 --checkpoint-every 0 --init-points");
     INFO(train.output);
     CHECK(train.exitCode == 0);
+    CHECK(train.output.find("200 Gaussians (160 at sparse points)") != std::string::npos);
     CHECK(fileExists(dir / "run/metrics.json"));
+    CHECK(readFile(dir / "run/config.json").find("\"init_points\": true") != std::string::npos);
   }
 }
 
@@ -301,4 +306,41 @@ TEST_CASE("Test views: named by index or file name in LLFF and COLMAP datasets, 
   INFO(train.output);
   REQUIRE(train.exitCode == 0);
   CHECK(readFile(dir / "run/config.json").find("\"test_views\"") != std::string::npos);
+}
+
+TEST_CASE("--init-points: Gaussians at the sparse points under the water, moved to their true depth; above it dropped") {
+  // Points at apparent depths under a flat water at z = 0.5 with IOR 1.5, and two above it.
+  std::vector<SparsePoint> points;
+  for (int i = 0; i < 10; i++) points.push_back({glm::dvec3(0.1 * i, -0.2 * i, 0.5 - 0.05 * (i + 1)), glm::dvec3(0.1 * i, 0.5, 1)});
+  points.push_back({glm::dvec3(0, 0, 0.6), glm::dvec3(1, 0, 0)});  // the dry rim
+  points.push_back({glm::dvec3(1, 1, 0.5), glm::dvec3(1, 0, 0)});  // at the water: not under it
+  const double boxMin[3] = {-1, -1, -1}, boxMax[3] = {1, 1, 0.5};
+  std::mt19937 rng(5);
+  size_t used = 0;
+  GaussianSet g = initialGaussiansAtPoints(rng, 100, points, 0.5, 1.5, boxMin, boxMax, 0.1, used);
+  REQUIRE(used == 10);
+  REQUIRE(g.count() == 10);
+  std::vector<bool> seen(10, false);
+  for (size_t k = 0; k < g.count(); k++) {
+    const float* p = g.at(k);
+    const int i = int(std::lround(p[f32::kGaussMean] / 0.1));
+    REQUIRE(i >= 0);
+    REQUIRE(i < 10);
+    seen[size_t(i)] = true;
+    CHECK(p[f32::kGaussMean + 1] == doctest::Approx(-0.2 * i));
+    CHECK(p[f32::kGaussMean + 2] == doctest::Approx(0.5 - 1.5 * 0.05 * (i + 1)));  // apparent depth x IOR
+    CHECK(0.28209479177387814 * p[f32::kGaussSH] + 0.5 == doctest::Approx(0.1 * i).epsilon(1e-5));  // the point's colour
+  }
+  CHECK(std::find(seen.begin(), seen.end(), false) == seen.end());
+  // at most `count`: a subset
+  GaussianSet few = initialGaussiansAtPoints(rng, 4, points, 0.5, 1.5, boxMin, boxMax, 0.1, used);
+  CHECK(used == 4);
+  CHECK(few.count() == 4);
+  // a dataset without sparse points is refused before any run folder
+  test::TrainTempDir dir;
+  test::CliResult blender = test::runCli("train " + test::tinyDataset("nerfrac-primary-sine") + " -o " + (dir / "run") + " --steps 2 --init-points");
+  CHECK(blender.exitCode != 0);
+  CHECK(blender.output.find("--init-points: ") != std::string::npos);
+  CHECK(blender.output.find("has no sparse points under the water") != std::string::npos);
+  CHECK(!fs::exists(dir / "run"));
 }

@@ -141,8 +141,10 @@ int runTrain(const cli::Args& args) {
   auto session = createTrainSession(*ctx, config, std::move(dataset));
   folder->keep();
   writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->config));
-  std::fprintf(stderr, "training %s (%s): %u Gaussians, %d steps, %zu training views -> %s\n", config.dataset.c_str(),
-               waterModelName(config.model), config.initialGaussians, config.steps, session->dataset.split("train").size(), run.c_str());
+  const std::string atPoints = config.initPoints ? " (" + std::to_string(session->gaussiansAtPoints) + " at sparse points)" : "";
+  std::fprintf(stderr, "training %s (%s): %u Gaussians%s, %d steps, %zu training views -> %s\n", config.dataset.c_str(),
+               waterModelName(config.model), config.initialGaussians, atPoints.c_str(), config.steps, session->dataset.split("train").size(),
+               run.c_str());
   printSummary(trainToEnd(*session, run, progress));
   if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->profiler).c_str());
   return 0;

@@ -195,6 +195,7 @@ Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& optio
                       "rim); give --water-height to override");
   }
   d.water = water;
+  for (const ColmapPoint& p : m.points) d.points.push_back({glm::dvec3(normalization * glm::dvec4(p.position, 1)), p.colour});
 
   for (size_t i = 0; i < present.size(); i++) {
     const ColmapImage& im = present[i];

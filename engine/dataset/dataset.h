@@ -115,6 +115,12 @@ struct DatasetOptions {
   std::optional<glm::dvec3> up;          // COLMAP: the water's up in the model's frame (else derived)
 };
 
+// A sparse 3D point the poses were computed with (COLMAP's points3D), in the loaded frame.
+struct SparsePoint {
+  glm::dvec3 position{0};
+  glm::dvec3 colour{0};  // 0..1
+};
+
 struct Dataset {
   std::string root;
   std::string format;                             // "blender", "llff" or "colmap"
@@ -122,6 +128,7 @@ struct Dataset {
   WaterMetadata water;
   glm::dmat4 normalization{1.0};                  // original world -> loaded world (LLFF, COLMAP)
   std::vector<std::string> notes;                 // what the loader derived or left out, for `refrax inspect` and `train`
+  std::vector<SparsePoint> points;                // COLMAP's sparse points (--init-points); empty for other formats
 
   const std::vector<View>& split(const std::string& name) const;  // refrax::Error when absent
 };

@@ -83,4 +83,24 @@ GaussianSet initialGaussiansOnDepth(std::mt19937& rng, size_t count, const doubl
   return gaussiansAt(xyz, rgb, boxMin, boxMax, density);
 }
 
+bool underWater(const SparsePoint& point, double waterHeight) {
+  return point.position.z < waterHeight - 1e-9 * std::max(1.0, std::abs(waterHeight));
+}
+
+GaussianSet initialGaussiansAtPoints(std::mt19937& rng, size_t count, const std::vector<SparsePoint>& points, double waterHeight, double ior,
+                                     const double boxMin[3], const double boxMax[3], double density, size_t& used) {
+  std::vector<const SparsePoint*> under;
+  for (const SparsePoint& p : points)
+    if (underWater(p, waterHeight)) under.push_back(&p);
+  std::shuffle(under.begin(), under.end(), rng);
+  under.resize(std::min(under.size(), count));
+  used = under.size();
+  std::vector<double> xyz, rgb;
+  for (const SparsePoint* p : under) {
+    xyz.insert(xyz.end(), {p->position.x, p->position.y, waterHeight - (waterHeight - p->position.z) * ior});
+    rgb.insert(rgb.end(), {p->colour.x, p->colour.y, p->colour.z});
+  }
+  return gaussiansAt(xyz, rgb, boxMin, boxMax, density);
+}
+
 }  // namespace refrax

@@ -59,6 +59,10 @@ struct TrainConfig {
   // (the reference), or "sweep", a plane sweep of the training views through the current
   // water (engine/train/plane_sweep.h).
   std::string initDepth = "box";
+  // --init-points: the Gaussians start at the dataset's sparse points under the water
+  // (COLMAP's, moved to their paraxial true depth; engine/train/init_gaussians.h), the rest
+  // as initDepth says.
+  bool initPoints = false;
   uint32_t maxGaussians = 1000000;
   double initialDensity = 0.1;
   uint32_t maxShDegree = 3;

@@ -200,6 +200,11 @@ std::vector<TrainOption> makeTable() {
                      "the initial (and restarted) Gaussians' depth: box (uniform in the box, the reference) or sweep (a plane sweep of the "
                      "training views through the current water; docs/training.md)",
                      field(&TrainConfig::initDepth), {"box", "sweep"}));
+  t.push_back(switchOption("init-points", "init_points",
+                           "the initial (and restarted) Gaussians at the dataset's sparse points under the water (COLMAP's points3D, moved "
+                           "down to their true depth through the flat water; points above it dropped), at most --gaussians of them; the "
+                           "rest as --init-depth says",
+                           field(&TrainConfig::initPoints), true));
   t.push_back(shown(required(integer<uint32_t>("max-gaussians", "max_gaussians", "N", "cap on the Gaussian count (enforced by densification)",
                                                field(&TrainConfig::maxGaussians), 1, 100000000)),
                     "max(1000000, --gaussians)"));

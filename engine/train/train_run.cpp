@@ -1,5 +1,6 @@
 #include "engine/train/train_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "engine/io/npy.h"
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
+#include "engine/train/init_gaussians.h"
 #include "engine/train/render_run.h"
 #include "engine/train/train_views.h"
 #include "engine/vk/vk_commands.h"
@@ -36,6 +38,10 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
     c.boxMin[a] = b.min[a];
     c.boxMax[a] = b.max[a];
   }
+  if (c.initPoints &&
+      std::none_of(d.points.begin(), d.points.end(), [&](const SparsePoint& p) { return underWater(p, c.waterHeight); }))
+    fail("--init-points: " + d.root + " has no sparse points under the water (" + std::to_string(d.points.size()) +
+         " points; only COLMAP models carry them)");
   c.extent = sceneExtent(cams);
   for (const Camera& cam : cams)
     if (c.patch > 0 && (int(c.patch) > cam.width || int(c.patch) > cam.height))
@@ -138,6 +144,7 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     profileStepEnd(s.profiler, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart).count());
     if (r.restarted) {
       std::string how = c.initDepth == "sweep" ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.sweptCellFraction))) + "% of the cells" : "";
+      if (c.initPoints) how += ", " + std::to_string(s.gaussiansAtPoints) + " at sparse points";
       say("step " + std::to_string(s.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
     }
     if (s.step % c.progressEvery == 0 || s.step == c.steps) {

@@ -143,7 +143,15 @@ std::vector<SweepView> sweepViews(TrainSession& s) {
 // water as it is now (flat at step 0, learned at a restart).
 void drawGaussians(TrainSession& s) {
   const TrainConfig& c = s.config;
-  if (c.initDepth == "sweep") {
+  GaussianSet atPoints;
+  s.gaussiansAtPoints = 0;
+  if (c.initPoints)
+    atPoints = initialGaussiansAtPoints(s.rng, c.initialGaussians, s.dataset.points, c.waterHeight, c.ior, c.boxMin, c.boxMax,
+                                        c.initialDensity, s.gaussiansAtPoints);
+  const size_t rest = c.initialGaussians - s.gaussiansAtPoints;
+  if (rest == 0) {
+    s.gaussians = std::move(atPoints);
+  } else if (c.initDepth == "sweep") {
     PlaneSweepConfig pc;
     pc.xMin = c.boxMin[0];
     pc.yMin = c.boxMin[1];
@@ -155,10 +163,11 @@ void drawGaussians(TrainSession& s) {
     size_t known = 0;
     for (double z : depth.z) known += std::isfinite(z) ? 1 : 0;
     s.sweptCellFraction = double(known) / double(std::max<size_t>(1, depth.z.size()));
-    s.gaussians = initialGaussiansOnDepth(s.rng, c.initialGaussians, c.boxMin, c.boxMax, c.initialDensity, depth);
+    s.gaussians = initialGaussiansOnDepth(s.rng, rest, c.boxMin, c.boxMax, c.initialDensity, depth);
   } else {
-    s.gaussians = initialGaussians(s.rng, c.initialGaussians, c.boxMin, c.boxMax, c.initialDensity);
+    s.gaussians = initialGaussians(s.rng, rest, c.boxMin, c.boxMax, c.initialDensity);
   }
+  if (rest > 0) s.gaussians.params.insert(s.gaussians.params.begin(), atPoints.params.begin(), atPoints.params.end());
   s.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.gaussians.count());
   s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
 }

@@ -81,6 +81,7 @@ struct TrainSession {
   double planeGrad = 0;  // dL/d(plane height) summed since the last plane step (--surface-batch), pushed part
   std::optional<WaterSurface> surface;
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
+  size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
 
   // Per-step buffers for up to `capacity` rays.
   uint32_t capacity = 0;
