@@ -308,7 +308,7 @@ TEST_CASE("Test views: named by index or file name in LLFF and COLMAP datasets, 
   CHECK(readFile(dir / "run/config.json").find("\"test_views\"") != std::string::npos);
 }
 
-TEST_CASE("--init-points: Gaussians at the sparse points under the water, moved to their true depth; above it dropped") {
+TEST_CASE("--init-points: Gaussians at the sparse points under the water (moved to their true depth), none above it") {
   // Points at apparent depths under a flat water at z = 0.5 with IOR 1.5, and two above it.
   std::vector<SparsePoint> points;
   for (int i = 0; i < 10; i++) points.push_back({glm::dvec3(0.1 * i, -0.2 * i, 0.5 - 0.05 * (i + 1)), glm::dvec3(0.1 * i, 0.5, 1)});

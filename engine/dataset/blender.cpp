@@ -62,7 +62,11 @@ std::vector<View> loadSplit(const std::string& folder, const std::string& file, 
     View v;
     v.name = fp.get<std::string>();
     int expectW = int(optionalNumber(f, top, "w", where, 0)), expectH = int(optionalNumber(f, top, "h", where, 0));
-    v.image = loadViewImage(resolveImage(folder, v.name, where), expectW, expectH, options.background, where);
+    const std::string imagePath = resolveImage(folder, v.name, where);
+    v.image = loadViewImage(imagePath, expectW, expectH, options.background, where);
+    // masks/<file_path>.png: "./train/000" -> masks/train/000.png
+    const std::string relative = fs::path(v.name).lexically_normal().generic_string();
+    v.mask = loadViewMask(imagePath, folder + "/masks/" + replaceExtension(relative, ".png"), v.image.width, v.image.height, where);
     Camera& cam = v.camera;
     cam.cameraToWorld = c2w;
     cam.width = v.image.width;
@@ -108,6 +112,7 @@ Dataset loadBlenderDataset(const std::string& folder, const DatasetOptions& opti
     }
   }
   d.water = loadWaterMetadata(folder, options);
+  noteMasks(d);
   return d;
 }
 

@@ -140,6 +140,7 @@ Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& optio
   size_t missing = 0;
   for (const ColmapImage& im : m.images) {
     registered.insert(im.name);
+    registered.insert(replaceExtension(im.name, "_mask.png"));  // its mask beside it is no unregistered image
     if (fileExists(imageDir + "/" + im.name)) present.push_back(im);
     else missing++;
   }
@@ -215,8 +216,11 @@ Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& optio
       fail(where + ": the image is " + std::to_string(v.image.width) + " x " + std::to_string(v.image.height) + ", the camera " +
            std::to_string(v.camera.width) + " x " + std::to_string(v.camera.height) + (factor > 1 ? " (its size / " + std::to_string(factor) + ")" : ""));
     v.camera.width = v.image.width, v.camera.height = v.image.height;
+    v.mask = loadViewMask(imageDir + "/" + im.name, maskFolder(folder, factor) + "/" + replaceExtension(im.name, ".png"), v.image.width,
+                          v.image.height, where);
     d.splits[test[i] ? "test" : "train"].push_back(std::move(v));
   }
+  noteMasks(d);
   return d;
 }
 

@@ -29,6 +29,16 @@ Dataset loadDataset(const std::string& folder, const DatasetOptions& options) {
        "(sparse/0/cameras.bin or .txt)");
 }
 
+void noteMasks(Dataset& d) {
+  size_t views = 0, masked = 0;
+  for (const auto& [name, split] : d.splits)
+    for (const View& v : split) {
+      views++;
+      masked += v.mask.pixels.empty() ? 0 : 1;
+    }
+  if (masked) d.notes.push_back("masks: " + std::to_string(masked) + " of " + std::to_string(views) + " views (their 0 pixels do not count)");
+}
+
 std::vector<bool> testViewFlags(const std::vector<std::string>& files, const DatasetOptions& options, const std::string& where) {
   std::vector<bool> test(files.size(), false);
   if (options.testViews.empty()) {
@@ -56,6 +66,10 @@ std::vector<bool> testViewFlags(const std::vector<std::string>& files, const Dat
 
 std::string imageFolder(const std::string& folder, int factor) {
   return folder + (factor == 1 ? "/images" : "/images_" + std::to_string(factor));
+}
+
+std::string maskFolder(const std::string& folder, int factor) {
+  return folder + (factor == 1 ? "/masks" : "/masks_" + std::to_string(factor));
 }
 
 void validateCameraToWorld(const glm::dmat4& m, const std::string& where) {

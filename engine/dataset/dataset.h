@@ -51,6 +51,12 @@
 //   Test views: as LLFF (testViews, else every llffHold-th image in name order).
 //   `refrax inspect` prints the derived frame (Dataset::notes).
 //
+// Masks (every format; engine/dataset/view_image.h): masks/<image's path>.png, the masks/
+//   folder mirroring the image folder (images_<N>/ -> masks_<N>/; Blender: masks/train/000.png
+//   for ./train/000), else <image>_mask.png beside the image (RefracGS's convention). Zero
+//   where a pixel must not count (a tank's rim, reflections, people); a view without either
+//   file counts every pixel. Dataset::notes counts the views with masks.
+//
 // water.json (optional, in the dataset folder; values in the loaded world frame): {"ior": 1.33,
 //   "height": -1.0, "depth": 2.0, "domain": [xmin, ymin, xmax, ymax]}; every field optional,
 //   DatasetOptions override each one.
@@ -74,6 +80,7 @@ struct View {
   std::string name;       // file name (relative to the dataset folder)
   Camera camera;
   Image image;            // RGB, composited
+  Image mask;             // 1 where the pixel counts in the loss, the metrics and densification, 0 where not; empty: all count
   double nearBound = 0;   // LLFF bounds along the view axis in the loaded frame; 0 when unknown
   double farBound = 0;
 };
@@ -139,6 +146,9 @@ Dataset loadBlenderDataset(const std::string& folder, const DatasetOptions& opti
 Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options = {});
 Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& options = {});
 
+// Counts the views with masks into d.notes ("masks: N of M views").
+void noteMasks(Dataset& d);
+
 // Which of an LLFF or COLMAP dataset's images (file names in name order) are test views:
 // options.testViews when given (each an index from 0 or a file name; refrax::Error naming
 // --test-views for one that matches no image, and when no training view would remain), else
@@ -147,6 +157,8 @@ std::vector<bool> testViewFlags(const std::vector<std::string>& files, const Dat
 
 // The image folder of an LLFF or COLMAP dataset: images/, or images_<factor>/ (--llff-factor).
 std::string imageFolder(const std::string& folder, int factor);
+// Its masks' folder: masks/, or masks_<factor>/.
+std::string maskFolder(const std::string& folder, int factor);
 
 // water.json of the folder (defaults when absent) with the options' overrides applied.
 WaterMetadata loadWaterMetadata(const std::string& folder, const DatasetOptions& options = {});

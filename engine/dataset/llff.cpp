@@ -29,8 +29,10 @@ std::vector<std::string> imageFiles(const std::string& dir) {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::string ext = entry.path().extension().string();
-    if (entry.is_regular_file() && (ext == ".png" || ext == ".PNG" || ext == ".jpg" || ext == ".JPG" || ext == ".jpeg"))
-      files.push_back(entry.path().filename().string());
+    const std::string name = entry.path().filename().string();
+    const bool mask = name.size() > 9 && name.compare(name.size() - 9, 9, "_mask.png") == 0;  // a mask beside its image
+    if (entry.is_regular_file() && !mask && (ext == ".png" || ext == ".PNG" || ext == ".jpg" || ext == ".JPG" || ext == ".jpeg"))
+      files.push_back(name);
   }
   std::sort(files.begin(), files.end());
   return files;
@@ -154,9 +156,12 @@ Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options
     v.image = std::move(images[i]);
     v.nearBound = cams.nearBounds[i];
     v.farBound = cams.farBounds[i];
+    v.mask = loadViewMask(imageDir + "/" + files[i], maskFolder(folder, options.llffFactor) + "/" + replaceExtension(files[i], ".png"),
+                          v.image.width, v.image.height, npyPath + ": view " + std::to_string(i));
     d.splits[test[i] ? "test" : "train"].push_back(std::move(v));
   }
   d.water = water;
+  noteMasks(d);
   return d;
 }
 

@@ -29,4 +29,28 @@ Image loadViewImage(const std::string& path, int expectWidth, int expectHeight, 
   return out;
 }
 
+std::string replaceExtension(const std::string& path, const std::string& ending) {
+  const size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
+  const bool hasExtension = dot != std::string::npos && (slash == std::string::npos || dot > slash + 1);
+  return (hasExtension ? path.substr(0, dot) : path) + ending;
+}
+
+Image loadViewMask(const std::string& imagePath, const std::string& masksPath, int width, int height, const std::string& where) {
+  std::string path = masksPath;
+  if (!fileExists(path)) path = replaceExtension(imagePath, "_mask.png");
+  if (!fileExists(path)) return {};
+  Image in = readPng(path);
+  if (in.width != width || in.height != height)
+    fail(where + ": mask " + path + " is " + std::to_string(in.width) + "x" + std::to_string(in.height) + ", its image " +
+         std::to_string(width) + "x" + std::to_string(height));
+  Image mask{width, height, 1, std::vector<float>(size_t(width) * height)};
+  bool any = false;
+  for (size_t p = 0; p < mask.pixels.size(); p++) {
+    mask.pixels[p] = in.pixels[p * in.channels] > 0.5f ? 1.0f : 0.0f;
+    any = any || mask.pixels[p] > 0;
+  }
+  if (!any) fail(where + ": mask " + path + " leaves no pixel that counts (all below one half)");
+  return mask;
+}
+
 }  // namespace refrax

@@ -12,4 +12,15 @@ namespace refrax {
 // expectWidth/Height 0: any size. `where` names the file that referenced the image.
 Image loadViewImage(const std::string& path, int expectWidth, int expectHeight, const glm::dvec3& background, const std::string& where);
 
+// A view's pixel mask, when it has one: `masksPath` (the masks/ folder mirroring the image
+// folder), else the image's path with "_mask.png" for its extension (RefracGS's convention).
+// A pixel counts where the mask's first channel is above one half (grey or red; masks are
+// often JPEG-noisy or anti-aliased), so the result is 1 or 0 per pixel (one channel). An
+// empty Image when neither file exists; refrax::Error naming the mask when it is not the
+// image's size or leaves no pixel that counts.
+Image loadViewMask(const std::string& imagePath, const std::string& masksPath, int width, int height, const std::string& where);
+
+// The path with its extension replaced by `ending` ("a/b.jpg", "_mask.png" -> "a/b_mask.png").
+std::string replaceExtension(const std::string& path, const std::string& ending);
+
 }  // namespace refrax

@@ -19,6 +19,17 @@ void checkSameShape(const Image& a, const Image& b, const char* metric) {
          std::to_string(b.channels) + ")");
 }
 
+// A mask of the image's size with some pixel counting, or none.
+void checkMask(const Image& image, const Image& mask, const char* metric) {
+  if (mask.pixels.empty()) return;
+  if (mask.width != image.width || mask.height != image.height || mask.channels != 1 || mask.pixels.size() != size_t(mask.width) * mask.height)
+    fail(std::string(metric) + ": the mask is " + std::to_string(mask.width) + "x" + std::to_string(mask.height) + "x" +
+         std::to_string(mask.channels) + ", the image " + std::to_string(image.width) + "x" + std::to_string(image.height) + " (one channel needed)");
+  if (std::none_of(mask.pixels.begin(), mask.pixels.end(), [](float w) { return w > 0; }))
+    fail(std::string(metric) + ": the mask leaves no pixel to measure");
+}
+double maskAt(const Image& mask, size_t pixel) { return mask.pixels.empty() ? 1.0 : double(mask.pixels[pixel]); }
+
 std::vector<double> toDouble(const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); }
 
 // Closest point of the bilinear patch over cell (i, j) to p: squared distance.
@@ -61,20 +72,32 @@ double closestInCell(const HeightGrid& g, int i, int j, const glm::dvec3& p) {
 
 }  // namespace
 
-double psnr(const Image& a, const Image& b) {
+double psnr(const Image& a, const Image& b, const Image& mask) {
   checkSameShape(a, b, "PSNR");
-  double sum = 0;
+  checkMask(a, mask, "PSNR");
+  double sum = 0, counted = 0;
   for (size_t i = 0; i < a.pixels.size(); i++) {
+    const double w = maskAt(mask, i / size_t(a.channels));
     double d = double(a.pixels[i]) - double(b.pixels[i]);
-    sum += d * d;
+    sum += w * d * d;
+    counted += w;
   }
-  double mse = sum / double(a.pixels.size());
+  double mse = sum / counted;
   return mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
 }
 
-double ssim(const Image& a, const Image& b) {
+double ssim(const Image& a, const Image& b, const Image& mask) {
   checkSameShape(a, b, "SSIM");
-  return ref::ssim(toDouble(a.pixels), toDouble(b.pixels), a.width, a.height, a.channels);
+  checkMask(a, mask, "SSIM");
+  if (mask.pixels.empty()) return ref::ssim(toDouble(a.pixels), toDouble(b.pixels), a.width, a.height, a.channels);
+  const std::vector<double> map = ref::imageLoss(toDouble(a.pixels), toDouble(b.pixels), a.width, a.height, a.channels, false).ssimMap;
+  double sum = 0, counted = 0;
+  for (size_t i = 0; i < map.size(); i++) {
+    const double w = maskAt(mask, i / size_t(a.channels));
+    sum += w * map[i];
+    counted += w;
+  }
+  return sum / counted;
 }
 
 void validateHeightGrid(const HeightGrid& g) {

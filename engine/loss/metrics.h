@@ -13,8 +13,12 @@ namespace refrax {
 
 // 10 log10(1 / MSE) over every pixel and channel (data range 1); +infinity for equal images.
 // Both images must have the same size and channel count (refrax::Error otherwise).
-double psnr(const Image& a, const Image& b);
-double ssim(const Image& a, const Image& b);
+// With a mask (one channel, the images' size; engine/dataset/dataset.h View::mask), over the
+// pixels whose mask is nonzero only: PSNR from their squared error, SSIM the mean of the SSIM
+// map (computed on the whole images) at them. An empty mask: every pixel. refrax::Error when
+// the mask's size differs or no pixel counts.
+double psnr(const Image& a, const Image& b, const Image& mask = {});
+double ssim(const Image& a, const Image& b, const Image& mask = {});
 
 // A height field z = H(x, y) given on a regular grid over [xMin, xMax] x [yMin, yMax]:
 // heights[j * nx + i] at x = xMin + i (xMax - xMin) / (nx - 1), y likewise; bilinear between.

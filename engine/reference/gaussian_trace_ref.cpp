@@ -110,6 +110,8 @@ TraceResultD traceRayRef(const std::vector<double>& p, const RayD& ray, const Tr
 RayGradD traceRayBackwardRef(const std::vector<double>& p, const RayD& ray, const double dLoss[4], std::vector<double>& dParams,
                              const TraceOptionsD& options, std::vector<double>* stats) {
   RayGradD out;
+  // a ray without a loss gradient (a masked pixel) changes nothing and counts in no statistic
+  if (dLoss[0] == 0 && dLoss[1] == 0 && dLoss[2] == 0 && dLoss[3] == 0) return out;
   TraceResultD fwd = traceRayRef(p, ray, options);
   real3 o(ray.origin[0], ray.origin[1], ray.origin[2]), d(ray.dir[0], ray.dir[1], ray.dir[2]);
   real3 dn = normalize(d);

@@ -49,7 +49,8 @@ struct RayGradD {
 // Analytic gradient of L = dot(dLoss.rgb, rgb) + dLoss[3] * opacity for one ray; parameter
 // gradients are added into `dParams` (kGaussianFloats per Gaussian), and, when given, the
 // densification statistics into `stats` (2 per Gaussian: |dL/dmean| * distance / 2 summed
-// over rays, and the number of rays that blended the Gaussian).
+// over rays, and the number of rays that blended the Gaussian; a ray whose dLoss is all zero,
+// a masked pixel, counts in neither).
 RayGradD traceRayBackwardRef(const std::vector<double>& params, const RayD& ray, const double dLoss[4], std::vector<double>& dParams,
                              const TraceOptionsD& options = {}, std::vector<double>* stats = nullptr);
 

@@ -60,9 +60,11 @@ ImageLossResult imageLoss(const std::vector<double>& x, const std::vector<double
   auto exy = windowSum(xy, width, height, channels);
   std::vector<double> dMu1(n), dExx(n), dExy(n);
   ImageLossResult r;
+  r.ssimMap.resize(n);
   for (size_t i = 0; i < n; i++) {
     double value;
     f64::ssimTerms(mu1[i], mu2[i], exx[i], eyy[i], exy[i], value, dMu1[i], dExx[i], dExy[i]);
+    r.ssimMap[i] = value;
     r.ssim += value;
     r.l1 += std::abs(x[i] - y[i]);
   }

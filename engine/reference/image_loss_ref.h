@@ -10,6 +10,7 @@ struct ImageLossResult {
   double loss = 0;     // 0.8 * L1 + 0.2 * (1 - SSIM)
   double l1 = 0;       // mean |x - y|
   double ssim = 0;     // mean SSIM map
+  std::vector<double> ssimMap;  // per element (the masked metrics average it over the pixels that count)
   std::vector<double> grad;  // dL/dx, filled when asked for
 };
 

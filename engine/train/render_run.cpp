@@ -121,7 +121,7 @@ nlohmann::json evaluateSession(TrainSession& s, const Dataset& data, const std::
   uint32_t missed = 0;
   for (size_t i = 0; i < test.size(); i++) {
     RenderedView r = renderView(s, test[i].camera, WaterView::Keep);
-    double p = psnr(r.image, test[i].image), q = ssim(r.image, test[i].image);
+    double p = psnr(r.image, test[i].image, test[i].mask), q = ssim(r.image, test[i].image, test[i].mask);  // the pixels that count
     psnrSum += p;
     ssimSum += q;
     missed += r.missed;

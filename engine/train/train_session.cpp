@@ -38,6 +38,7 @@ void allocateRayBuffers(TrainSession& s, uint32_t n) {
   s.results = createBuffer(ctx, size_t(n) * sizeof(GpuTraceResult));
   s.rendered = createBuffer(ctx, size_t(n) * 12);
   s.target = createBuffer(ctx, size_t(n) * 12);
+  s.pixelWeights = createBuffer(ctx, size_t(n) * 4);
   s.lossGrad = createBuffer(ctx, size_t(n) * 12);
   s.dLoss = createBuffer(ctx, size_t(n) * 16);
   s.rayGrads = createBuffer(ctx, size_t(n) * sizeof(GpuRayGrad));
@@ -73,10 +74,15 @@ void shuffleViews(TrainSession& s) {
   s.viewCursor = 0;
 }
 
-double batchPsnr(const std::vector<float>& a, const std::vector<float>& b) {
-  double se = 0;
-  for (size_t i = 0; i < a.size(); i++) se += double(a[i] - b[i]) * double(a[i] - b[i]);
-  double mse = se / double(std::max<size_t>(1, a.size()));
+// Over the pixels that count (weight 1; every pixel without weights), rgb per pixel.
+double batchPsnr(const std::vector<float>& a, const std::vector<float>& b, const std::vector<float>& weight) {
+  double se = 0, counted = 0;
+  for (size_t i = 0; i < a.size(); i++) {
+    const double w = weight.empty() ? 1.0 : weight[i / 3];
+    se += w * double(a[i] - b[i]) * double(a[i] - b[i]);
+    counted += w;
+  }
+  double mse = se / std::max(1.0, counted);
   return mse > 0 ? 10.0 * std::log10(1.0 / mse) : INFINITY;
 }
 
@@ -418,14 +424,24 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
   ensureRayCapacity(s, n);
   BatchForward f;
   f.target.resize(size_t(n) * 3);
+  // A masked view: its target and its rendering both times the mask, and the loss's gradient
+  // too (the SSIM window reaches across the mask's edge), so the pixels that do not count add
+  // nothing to the loss's gradient, nor, in the backward, to the Gaussians, the water or
+  // densification's statistics.
+  const bool masked = !view.mask.pixels.empty();
+  if (masked) f.weight.resize(n);
   std::vector<uint32_t> pixelList(b.patch ? n : 0);
   for (uint32_t y = 0; y < b.height; y++)
     for (uint32_t x = 0; x < b.width; x++) {
       uint32_t i = y * b.width + x;
       if (b.patch) pixelList[i] = (b.y0 + y) * uint32_t(cam.width) + b.x0 + x;
-      for (int ch = 0; ch < 3; ch++) f.target[3 * i + ch] = view.image.at(int(b.x0 + x), int(b.y0 + y), ch);
+      const float w = masked ? view.mask.at(int(b.x0 + x), int(b.y0 + y), 0) : 1.0f;
+      if (masked) f.weight[i] = w;
+      for (int ch = 0; ch < 3; ch++) f.target[3 * i + ch] = w * view.image.at(int(b.x0 + x), int(b.y0 + y), ch);
     }
   upload(ctx, s.target, f.target.data(), f.target.size() * 4);
+  if (masked) upload(ctx, s.pixelWeights, f.weight.data(), f.weight.size() * 4);
+  const Buffer* weights = masked ? &s.pixelWeights : nullptr;
   if (b.patch) upload(ctx, s.pixels, pixelList.data(), pixelList.size() * 4);
 
   prepareImageLossScratch(ctx, s.lossScratch, b.width, b.height, 3);
@@ -444,11 +460,11 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
     cmdTraceForward(cb, s.tracer, s.proxies, s.device, s.surface ? s.refracted : s.rays, s.results, n, opt);
     profileStage(cb, ctx, "gaussian forward");
     cmdBarrier(cb);
-    cmdCopyStrided(cb, s.copyPipeline, s.results, {kTraceResultFloats, 0}, s.rendered, {3, 0}, 3, n);
+    cmdCopyStrided(cb, s.copyPipeline, s.results, {kTraceResultFloats, 0}, s.rendered, {3, 0}, 3, n, weights);
     cmdImageLoss(cb, s.lossPipelines, s.lossScratch, s.rendered, s.target, s.lossGrad, s.lossResult);
     cmdBarrier(cb);
     // dL/d(rgb, opacity): the opacity's stays 0, the background is part of rgb
-    cmdCopyStrided(cb, s.copyPipeline, s.lossGrad, {3, 0}, s.dLoss, {4, 0}, 3, n);
+    cmdCopyStrided(cb, s.copyPipeline, s.lossGrad, {3, 0}, s.dLoss, {4, 0}, 3, n, weights);
     cmdBarrier(cb);
     profileStage(cb, ctx, "loss");
     if (then) then(cb);
@@ -644,7 +660,7 @@ StepResult trainStep(TrainSession& s) {
   }
   r.imageLoss = forward.imageLoss;
   r.loss = r.imageLoss + s.config.densityLossWeight * densitySquares + priorEnergy;
-  r.psnr = batchPsnr(forward.rendered, forward.target);
+  r.psnr = batchPsnr(forward.rendered, forward.target, forward.weight);
   r.gaussians = uint32_t(s.gaussians.count());
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");
   s.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

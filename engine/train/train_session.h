@@ -90,6 +90,7 @@ struct TrainSession {
   ComputePipeline copyPipeline;  // layouts handed between stages (engine/vk/strided_copy.h)
   ImageLossScratch lossScratch;
   Buffer pixels, rays, refracted, records, results, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
+  Buffer pixelWeights;    // the batch's mask (1: the pixel counts), for masked views
   HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
 
   // Densification (engine/gaussian/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
@@ -147,7 +148,8 @@ StepBatch nextStepBatch(TrainSession& session);
 TraceOptions stepTraceOptions(TrainSession& session, const StepBatch& batch, int t);
 struct BatchForward {
   double imageLoss = 0;  // 0.8 L1 + 0.2 (1 - SSIM) of the batch
-  std::vector<float> rendered, target;  // rgb per ray
+  std::vector<float> rendered, target;  // rgb per ray (times the mask for a masked view)
+  std::vector<float> weight;            // per ray: the view's mask (1: counts); empty: every ray counts
 };
 // Camera rays -> water (unless --no-refraction) -> Gaussians -> image loss, at the session's
 // current parameters; leaves dL/d(rendered) in session.dLoss for cmdBackwardBatch. `then`

@@ -9,7 +9,7 @@ namespace refrax {
 
 namespace {
 struct StridedPush {  // mirror of the push block in shaders/vk/copy_strided.comp
-  uint32_t count, channels, srcStride, srcOffset, dstStride, dstOffset;
+  uint32_t count, channels, srcStride, srcOffset, dstStride, dstOffset, weighted;
 };
 
 void requireFloats(const Buffer& b, StridedLayout l, uint32_t count, const char* what) {
@@ -21,17 +21,19 @@ void requireFloats(const Buffer& b, StridedLayout l, uint32_t count, const char*
 }  // namespace
 
 ComputePipeline createStridedCopyPipeline(Context& ctx) {
-  return createComputePipeline(ctx, "copy_strided", {kStorageBuffer, kStorageBuffer}, sizeof(StridedPush));
+  return createComputePipeline(ctx, "copy_strided", {kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(StridedPush));
 }
 
 void cmdCopyStrided(VkCommandBuffer cb, const ComputePipeline& p, const Buffer& src, StridedLayout from, const Buffer& dst, StridedLayout to,
-                    uint32_t channels, uint32_t count) {
+                    uint32_t channels, uint32_t count, const Buffer* weights) {
   if (channels > from.stride || channels > to.stride) fail("strided copy: more channels than a stride holds");
   requireFloats(src, from, count, "source");
   requireFloats(dst, to, count, "destination");
+  if (weights) requireFloats(*weights, {1, 0}, count, "weight");
   if (count == 0) return;
-  StridedPush push{count, channels, from.stride, from.offset, to.stride, to.offset};
-  cmdDispatch(cb, p, {bind(src), bind(dst)}, &push, groupsFor(count, 64));
+  StridedPush push{count, channels, from.stride, from.offset, to.stride, to.offset, weights ? 1u : 0u};
+  // unweighted, the source stands in for the weight binding (never read)
+  cmdDispatch(cb, p, {bind(src), bind(dst), bind(weights ? *weights : src)}, &push, groupsFor(count, 64));
 }
 
 }  // namespace refrax

@@ -1,7 +1,8 @@
 #pragma once
 // Per-element copies between buffer layouts on the device (shaders/vk/copy_strided.comp): the
 // first `channels` floats of each of `count` elements, from a stride of srcStride floats to
-// a stride of dstStride floats, the rest of each destination element set to 0.
+// a stride of dstStride floats, the rest of each destination element set to 0; with
+// `weights` (one float per element), the copied channels times the element's weight.
 #include <cstdint>
 
 #include "engine/vk/vk_pipeline.h"
@@ -18,6 +19,6 @@ struct StridedLayout {
 ComputePipeline createStridedCopyPipeline(Context& ctx);
 // Refuses (refrax::Error) buffers too small for the layouts, before recording.
 void cmdCopyStrided(VkCommandBuffer cb, const ComputePipeline& p, const Buffer& src, StridedLayout from, const Buffer& dst, StridedLayout to,
-                    uint32_t channels, uint32_t count);
+                    uint32_t channels, uint32_t count, const Buffer* weights = nullptr);
 
 }  // namespace refrax

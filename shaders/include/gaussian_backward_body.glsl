@@ -145,6 +145,12 @@ void main() {
   Tfinal = fwd.transmittance;
   gC = dLoss[i].rgb;
   gA = dLoss[i].a;
+  // A ray without a loss gradient (a masked pixel) changes nothing: the backward is linear in
+  // (gC, gA). It is skipped, so it neither costs a traversal nor counts in the statistics.
+  if (gC == vec3(0.0) && gA == 0.0) {
+    rayGrads[i] = RayGrad(vec4(0.0), vec4(0.0));
+    return;
+  }
   dOrigin = vec3(0.0);
   dDir = vec3(0.0);
   Cprefix = vec3(0.0);
