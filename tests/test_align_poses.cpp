@@ -111,6 +111,10 @@ TEST_CASE("align-poses: a bound exceeded or a bad input is one clear error and a
   CHECK(few.exitCode != 0);
   CHECK(few.output.find("under --min-registered 1.01") != std::string::npos);
 
+  auto negative = test::runCli("align-poses " + colmap + " " + truthDir + " --max-centre-error -1");
+  CHECK(negative.exitCode != 0);
+  CHECK(negative.output.find("--max-centre-error must be a number >= 0, got '-1'") != std::string::npos);
+
   auto noModel = test::runCli("align-poses " + (dir / "nothing") + " " + truthDir);
   CHECK(noModel.exitCode != 0);
   CHECK(noModel.output.find("no COLMAP model in " + (dir / "nothing")) != std::string::npos);

@@ -3,9 +3,11 @@
 // poses moved into the truth's frame as a Blender dataset that trains and evaluates against
 // the truth's water.json and ground-truth surface.
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include "engine/base/error.h"
 #include "engine/dataset/dataset.h"
@@ -93,8 +95,13 @@ int runAlignPoses(const cli::Args& args) {
     out = cli::createOutputFolder(args.get("output"), "-o");
     if (!fs::is_empty(out->path)) fail("align-poses: -o " + out->path + " is not empty");
   }
-  auto bound = [&](const char* flag) { return args.has(flag) ? args.getDouble(flag, 0) : -1.0; };
-  const double minRegistered = bound("min-registered"), maxRotation = bound("max-rotation-error"), maxCentre = bound("max-centre-error");
+  auto bound = [&](const char* flag) -> std::optional<double> {
+    if (!args.has(flag)) return std::nullopt;
+    double v = args.getDouble(flag, 0);
+    if (!(std::isfinite(v) && v >= 0)) fail(std::string("align-poses: --") + flag + " must be a number >= 0, got '" + args.get(flag) + "'");
+    return v;
+  };
+  const auto minRegistered = bound("min-registered"), maxRotation = bound("max-rotation-error"), maxCentre = bound("max-centre-error");
 
   // The water height matters only for training: a known one spares the loader estimating it.
   DatasetOptions colmapOptions;
@@ -161,11 +168,11 @@ int runAlignPoses(const cli::Args& args) {
     std::printf("  aligned poses written as a Blender dataset in %s (alignment.json: per-view errors)\n", out->path.c_str());
   }
   // The checks last, so that a failing run still leaves its numbers to look at.
-  if (minRegistered >= 0 && registeredFraction < minRegistered)
+  if (minRegistered && registeredFraction < *minRegistered)
     fail("align-poses: COLMAP registered " + std::to_string(registered) + " of " + std::to_string(given) + " images, under --min-registered " + args.get("min-registered"));
-  if (maxRotation >= 0 && !(e.rotationMaxDeg <= maxRotation))
+  if (maxRotation && !(e.rotationMaxDeg <= *maxRotation))
     fail("align-poses: a rotation error of " + std::to_string(e.rotationMaxDeg) + " deg exceeds --max-rotation-error " + args.get("max-rotation-error"));
-  if (maxCentre >= 0 && !(e.centreMax <= maxCentre * e.extent))
+  if (maxCentre && !(e.centreMax <= *maxCentre * e.extent))
     fail("align-poses: a centre error of " + std::to_string(e.centreMax / e.extent) + " of the rig's extent exceeds --max-centre-error " +
          args.get("max-centre-error"));
   return 0;
