@@ -14,8 +14,11 @@ REFRAX=${REFRAX:-build/refrax}
 OUT=${1:-colmap-check-out}
 # Bounds on the pose error after the similarity fit, for this scene (docs/experiments/2026-11-27-colmap-end-to-end.md)
 MIN_REGISTERED=0.8
-MAX_ROTATION_DEG=5    # seeds 1-3 measured a worst camera of 2.2-3.1 degrees
-MAX_CENTRE=0.06       # of the rig's extent (the largest distance between two true camera centres); measured 2.1-3.6%
+# COLMAP is not deterministic on two threads: over 10 runs the worst camera was 2.2-5.7 degrees
+# and 2.1-5.1% of the extent off; the bounds leave room for that and still catch a wrong
+# convention or a misregistered view (tens of degrees).
+MAX_ROTATION_DEG=8
+MAX_CENTRE=0.08       # of the rig's extent (the largest distance between two true camera centres)
 
 if ! command -v colmap >/dev/null 2>&1; then
   echo "colmap-check: the colmap binary is not on PATH; install Debian's colmap package (scripts/install-deps.sh does)" >&2
