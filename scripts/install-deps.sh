@@ -34,6 +34,9 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libvulkan-dev libvulkan-volk-dev vulkan-validationlayers glslang-tools spirv-tools vulkan-tools \
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglfw3-dev libimgui-dev doctest-dev \
   xvfb xauth clang-14 libfuzzer-14-dev >/dev/null  # clang and libFuzzer: the loaders' fuzz targets (fuzz/)
+# COLMAP (CPU build): structure from motion for scripts/colmap-check.sh, the CTest test that
+# trains on poses COLMAP recovers from a synthetic dataset's images.
+$SUDO apt-get install -y -qq --no-install-recommends colmap >/dev/null
 $SUDO apt-get install -y -qq --no-install-recommends -t bookworm-backports \
   mesa-vulkan-drivers >/dev/null
 echo "install-deps: done ($(dpkg-query -W -f='${Version}' mesa-vulkan-drivers) mesa-vulkan-drivers)"

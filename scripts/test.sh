@@ -12,8 +12,9 @@ if [ "${1:-}" = "--sanitize" ]; then
   build=build-sanitize
   # Tests in the doctest suite "long" train for minutes; under ASan they would take several
   # times that and check no code path the short ones miss, so the release run alone has them
-  # (and the second pass on the compute trace backend, the cases named "compute:...").
-  ctest_args+=(-LE long -E "^compute:")  # the compute backend's pass runs in the release build
+  # (and the second pass on the compute trace backend, the cases named "compute:..."), and so
+  # has the end-to-end COLMAP check (label "colmap", scripts/colmap-check.sh).
+  ctest_args+=(-LE "long|colmap" -E "^compute:")  # the compute backend's pass runs in the release build
   cmake_args+=(-DREFRAX_SANITIZE=ON)
   # Mesa's LLVM JIT keeps allocations for the process lifetime; leaks are not ours to judge.
   export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1

@@ -11,6 +11,7 @@
 #include "engine/base/error.h"
 #include "engine/synth/synth_dataset.h"
 #include "engine/synth/synth_presets.h"
+#include "engine/synth/synth_rim.h"
 #include "trainer/cli.h"
 
 namespace fs = std::filesystem;
@@ -63,8 +64,9 @@ int runSynth(const cli::Args& args) {
   synth::checkSynthOutputDir(out);
 
   auto start = std::chrono::steady_clock::now();
+  const std::string textureDir = findTextureDir(args);
   synth::SynthPreset preset = synth::makeSynthPreset(name, size == "tiny" ? synth::SynthSize::Tiny : synth::SynthSize::Full,
-                                                     uint64_t(seed), findTextureDir(args));
+                                                     uint64_t(seed), textureDir);
   synth::SynthVariation variation;
   if (args.has("width")) variation.width = int(args.getIntIn("width", 0, 8, 8192));  // 0 is the size's own, never asked for
   variation.amplitudeScale = args.getDouble("wave-amplitude", 1.0);
@@ -73,6 +75,7 @@ int runSynth(const cli::Args& args) {
   if (args.has("rig-spacing")) variation.rigSpacing = args.getDouble("rig-spacing", 0.0);
   if (args.has("ior")) variation.ior = args.getDouble("ior", 0.0);
   synth::applySynthVariation(preset, variation);
+  if (args.has("rim")) synth::addSynthRim(preset, args.getDouble("rim", 0.0), textureDir);
   synth::SynthWriteOptions o;
   o.seed = uint64_t(seed);
   o.sizeName = size;
@@ -92,7 +95,7 @@ int runSynth(const cli::Args& args) {
 }
 
 REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-truth water (CPU)",
-                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--textures DIR]\n       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown",
+                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--rim HALF] [--textures DIR]\n       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown",
                 {{"output", "DIR", "(or -o DIR) output folder; must not exist or be empty; appears only when complete", ""},
                  {"size", "tiny|full", "tiny: small images and simple geometry for CI", "full"},
                  {"seed", "N", "seed for the wave phases / spectrum and the antialiasing jitter", "1"},
@@ -102,6 +105,7 @@ REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-tr
                  {"rig-spacing", "M", "NeRFrac-like presets: the 3 x 3 rig's cameras M (0..0.6) apart instead of 0.2, same height and view axes (baseline sweeps)", "0.2"},
                  {"tilt", "DEG", "NeRFrac-like presets: the 3 x 3 rig turned rigidly DEG (0..60) from the vertical about the pool-floor centre, which the centre camera keeps looking at (camera-tilt sweeps)", "0"},
                  {"ior", "X", "index of refraction of the water, 1 < X <= 2 (recorded in water.json)", "the preset's (1.1 NeRFrac-like, 1.33 RefracGS-like)"},
+                 {"rim", "HALF", "a dry textured rim (a pool's edge) around the water, visible from every view so that structure from motion (COLMAP) can pose them: the water shrinks to +-HALF m around the domain's centre, the rim reaches out to +-2 HALF m, its top just above the highest crest (water.json's domain and ground truth follow)", ""},
                  {"textures", "DIR", "texture folder (also REFRAX_TEXTURES); default: the repository's assets/textures", ""}},
                 runSynth});
 

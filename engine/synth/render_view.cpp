@@ -33,6 +33,8 @@ RayResult shadeCameraRay(const SynthScene& scene, const WaveSurface* water, doub
     auto crossing = intersectWaveSurface(*water, o, d);
     // A ray that enters the domain's box under the surface (through its side) crosses upward
     // first; like a ray outside the domain it goes on unrefracted and is masked.
+    // Something dry beside the water (a rim) may stand between the camera and the water.
+    if (crossing && scene.geometryAboveWater && closestTriangleHit(scene.bvh, o, d, 1e-9, crossing->t)) crossing.reset();
     if (crossing && crossing->downward) {
       glm::dvec3 p = o + crossing->t * d;
       auto refracted = refractDirection(d, waveNormal(*water, p.x, p.y), 1.0 / ior);
@@ -43,8 +45,11 @@ RayResult shadeCameraRay(const SynthScene& scene, const WaveSurface* water, doub
       }
     }
   }
-  // The scene lies strictly below the lowest trough, so after refraction no second water
-  // crossing can come before it; the tiny tMin only skips the starting point.
+  // The scene over the water lies strictly below the lowest trough, so after refraction no
+  // second water crossing can come before it; the tiny tMin only skips the starting point. (A
+  // rim's wall is the exception: a ray refracted near a crest may meet the wall above the
+  // water there, which a real ray would reach only after leaving the water; such rays graze
+  // the edge of the opening and are few.)
   auto hit = closestTriangleHit(scene.bvh, o, d, 1e-9, 1e30);
   if (hit) {
     r.colour = shadeSurface(scene, *hit, d);

@@ -22,6 +22,9 @@ struct SynthScene {
   glm::dvec3 background{0.5, 0.55, 0.6};   // rays that meet nothing
   glm::dvec3 lightDirection{0.36, 0.24, 0.9};  // towards the light; Lambert plus ambient
   double ambient = 0.45;
+  // Set when something stands out of the water beside it (synth_rim.h): a camera ray can then
+  // meet the scene before the water, so the renderer looks for that (otherwise it need not).
+  bool geometryAboveWater = false;
 };
 
 struct SceneBuilder {

@@ -59,14 +59,6 @@ struct MaterialSet {
   }
 };
 
-// Every object must lie below the lowest trough (see render_view.cpp).
-void checkSceneBelowWater(const SynthPreset& p) {
-  double top = -1e300;
-  for (const auto& t : p.scene.bvh.triangles)
-    for (const auto& v : t.p) top = std::max(top, v.z);
-  if (top >= p.water.meanHeight - waveHeightBound(p.water)) fail("synth preset " + p.name + ": the waves reach into the scene under the water");
-}
-
 DirectionalWave sineAlong(double amplitude, double wavelength, double directionDeg, double phase) {
   double k = 2 * kPi / wavelength;
   return {amplitude, k * std::cos(directionDeg * kDeg), k * std::sin(directionDeg * kDeg), phase};
@@ -174,6 +166,18 @@ void setSpectrumWater(SynthPreset& p, SynthRng& rng, int count, double rmsSlope)
 }
 
 }  // namespace
+
+// Every object over the water must lie below the lowest trough (see render_view.cpp).
+void checkSceneBelowWater(const SynthPreset& p) {
+  const double* d = p.water.domain;
+  double top = -1e300;
+  for (const auto& t : p.scene.bvh.triangles) {
+    glm::dvec3 lo = glm::min(glm::min(t.p[0], t.p[1]), t.p[2]), hi = glm::max(glm::max(t.p[0], t.p[1]), t.p[2]);
+    if (hi.x <= d[0] || lo.x >= d[2] || hi.y <= d[1] || lo.y >= d[3]) continue;  // beside the water, not under it
+    top = std::max(top, hi.z);
+  }
+  if (top >= p.water.meanHeight - waveHeightBound(p.water)) fail("synth preset " + p.name + ": the waves reach into the scene under the water");
+}
 
 std::vector<std::string> synthPresetNames() {
   std::vector<std::string> names;

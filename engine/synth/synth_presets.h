@@ -57,6 +57,9 @@ struct SynthVariation {
   std::optional<double> ior;
 };
 void applySynthVariation(SynthPreset& preset, const SynthVariation& variation);
+// refrax::Error unless every triangle over the water's domain (its x-y extent overlapping the
+// domain's interior) lies below the lowest trough; outside the domain (a rim) anything goes.
+void checkSceneBelowWater(const SynthPreset& preset);
 // Textures by file stem from textureDir, as RGB.
 SynthTexture loadSynthTexture(const std::string& textureDir, const std::string& stem);
 
