@@ -17,7 +17,7 @@ std::vector<cli::Option> datasetOptions() {
       {"domain", "X0,Y0,X1,Y1", "height-field domain (overrides water.json)", "derived from the cameras"},
       {"background", "R,G,B", "colour RGBA images are composited on, in [0,1]", "0,0,0"},
       {"llff-factor", "N", "LLFF and COLMAP: read images_<N>/ (1: images/)", "1"},
-      {"llff-hold", "N", "LLFF and COLMAP: every N-th image (from the first) is a test view", "8"},
+      {"llff-hold", "N", "LLFF and COLMAP: every N-th image (from the first) is a test view (0: none)", "8"},
       {"test-views", "LIST", "LLFF and COLMAP: the test views instead, by index in name order (from 0) or file name, comma-separated "
                              "(NeRFrac's real scenes: 4)", "every --llff-hold-th"},
       {"up", "X,Y,Z", "COLMAP: the water's up (toward the cameras) in the model's frame", "derived from the cameras"},

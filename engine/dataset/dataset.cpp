@@ -42,8 +42,8 @@ void noteMasks(Dataset& d) {
 std::vector<bool> testViewFlags(const std::vector<std::string>& files, const DatasetOptions& options, const std::string& where) {
   std::vector<bool> test(files.size(), false);
   if (options.testViews.empty()) {
-    if (options.llffHold < 1) fail("--llff-hold must be at least 1, got " + std::to_string(options.llffHold));
-    for (size_t i = 0; i < files.size(); i += size_t(options.llffHold)) test[i] = true;
+    if (options.llffHold < 0) fail("--llff-hold must be at least 0 (0: no test views), got " + std::to_string(options.llffHold));
+    for (size_t i = 0; options.llffHold > 0 && i < files.size(); i += size_t(options.llffHold)) test[i] = true;
   } else {
     for (const std::string& name : options.testViews) {
       size_t index = files.size();

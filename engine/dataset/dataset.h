@@ -152,7 +152,7 @@ void noteMasks(Dataset& d);
 // Which of an LLFF or COLMAP dataset's images (file names in name order) are test views:
 // options.testViews when given (each an index from 0 or a file name; refrax::Error naming
 // --test-views for one that matches no image, and when no training view would remain), else
-// every llffHold-th from the first (refrax::Error below 1).
+// every llffHold-th from the first (none for 0; refrax::Error below 0).
 std::vector<bool> testViewFlags(const std::vector<std::string>& files, const DatasetOptions& options, const std::string& where);
 
 // The image folder of an LLFF or COLMAP dataset: images/, or images_<factor>/ (--llff-factor).
