@@ -204,11 +204,24 @@ TEST_CASE("COLMAP dataset: a distorted camera is refused with the fix, missing a
   CHECK(notes.find("1 of the model's " + std::to_string(m.images.size()) + " images are not in") != std::string::npos);
   CHECK(notes.find("1 files in") != std::string::npos);
 
+  // every distortion model is refused with the fix, in the text and the binary format
   ColmapCamera& distorted = m.cameras[m.images[1].cameraId];  // a camera of an image on disk
-  distorted.model = "OPENCV";
-  distorted.params = {50, 50, 32, 24, 0.1, 0.01, 0, 0};
-  writeColmapModel((folder / "sparse/0").string(), m, false);
-  CHECK_THROWS_WITH_AS(loadDataset(folder.string()), doctest::Contains("colmap image_undistorter"), Error);
+  const std::vector<std::pair<std::string, std::vector<double>>> models = {
+      {"SIMPLE_RADIAL", {50, 32, 24, 0.1}},
+      {"RADIAL", {50, 32, 24, 0.1, 0.01}},
+      {"OPENCV", {50, 50, 32, 24, 0.1, 0.01, 0, 0}},
+      {"FULL_OPENCV", {50, 50, 32, 24, 0.1, 0.01, 0, 0, 0.001, 0, 0, 0}}};
+  for (const auto& [model, params] : models)
+    for (bool binary : {false, true}) {
+      INFO(model << (binary ? " (binary)" : " (text)"));
+      distorted.model = model;
+      distorted.params = params;
+      fs::remove_all(folder / "sparse/0");
+      fs::create_directories(folder / "sparse/0");
+      writeColmapModel((folder / "sparse/0").string(), m, binary);
+      CHECK_THROWS_WITH_AS(loadDataset(folder.string()), doctest::Contains("colmap image_undistorter"), Error);
+      CHECK_THROWS_WITH_AS(loadDataset(folder.string()), doctest::Contains(model.c_str()), Error);
+    }
 
   DatasetOptions up;
   up.up = glm::dvec3(0, 0, 1);
