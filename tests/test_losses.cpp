@@ -173,6 +173,30 @@ GPU_TEST_CASE("density regulariser on the device adds the reference gradient and
     }
     CHECK(bad == 0);
   }
+  {  // In place in a strided table, as training runs it on the Gaussian table and its gradient:
+     // logit i at i * stride + offset; every other value stays as it was.
+  const uint32_t count = 1000, stride = 5, offset = 3;
+  std::vector<float> table(count * stride), gradTable(count * stride);
+  for (auto& v : table) v = N(rng);
+  for (auto& v : gradTable) v = N(rng);
+  std::vector<double> logits(count), refGrad;
+  for (uint32_t i = 0; i < count; i++) logits[i] = table[i * stride + offset];
+  const double value = ref::densityRegularizer(logits, 0.05, &refGrad);
+  Buffer lb = createBufferFrom(ctx, table), gb = createBufferFrom(ctx, gradTable);
+  Buffer pb = createBuffer(ctx, densityPartialCount(count) * 8), rb = createBuffer(ctx, 16);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdDensityRegularizer(cb, pipes, lb, count, gb, pb, rb, 0.05f, stride, offset); });
+  CHECK(downloadVector<float>(ctx, rb, 4)[0] == doctest::Approx(value).epsilon(1e-5));
+  const std::vector<float> grad = downloadVector<float>(ctx, gb, count * stride);
+  size_t bad = 0;
+  for (uint32_t k = 0; k < count * stride; k++) {
+    const bool slot = k % stride == offset;
+    const double expect = double(gradTable[k]) + (slot ? refGrad[k / stride] : 0.0);
+    if (!(std::abs(grad[k] - expect) <= (slot ? 1e-6 * std::abs(expect) + 1e-7 * std::abs(refGrad[k / stride]) + 1e-12 : 0.0))) bad++;
+  }
+  CHECK(bad == 0);
+  CHECK_THROWS_AS(submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdDensityRegularizer(cb, pipes, lb, count + 1, gb, pb, rb, 0.05f, stride, offset); }),
+                  Error);
+  }
   // reference gradient vs finite differences
   std::vector<double> logits(50), g;
   for (auto& v : logits) v = N(rng);

@@ -28,6 +28,7 @@ struct ReducePush {
 struct DensityPush {
   uint32_t count;
   float scale;
+  uint32_t stride, offset;
 };
 
 }  // namespace
@@ -102,12 +103,13 @@ void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScr
 uint32_t densityPartialCount(uint32_t count) { return groupsFor(count, kGroup); }
 
 void cmdDensityRegularizer(VkCommandBuffer cb, const LossPipelines& p, const Buffer& logits, uint32_t count, const Buffer& gradLogits,
-                           const Buffer& partials, const Buffer& result, float weight) {
+                           const Buffer& partials, const Buffer& result, float weight, uint32_t stride, uint32_t offset) {
   if (count == 0) return;
-  if (logits.size < VkDeviceSize(count) * 4 || gradLogits.size < VkDeviceSize(count) * 4 ||
+  const VkDeviceSize bytes = (VkDeviceSize(count - 1) * stride + offset + 1) * 4;
+  if (stride == 0 || logits.size < bytes || gradLogits.size < bytes ||
       partials.size < VkDeviceSize(densityPartialCount(count)) * 8 || result.size < 16)
     fail("density regulariser: a buffer is smaller than " + std::to_string(count) + " logits need");
-  DensityPush push{count, weight / float(count)};
+  DensityPush push{count, weight / float(count), stride, offset};
   cmdBarrier(cb);
   cmdDispatch(cb, p.density, {bind(logits), bind(gradLogits), bind(partials)}, &push, densityPartialCount(count));
   cmdBarrier(cb);

@@ -53,10 +53,12 @@ void cmdImageLoss(VkCommandBuffer cb, const LossPipelines& p, const ImageLossScr
 // Workgroups' partial sums the density regulariser needs for `count` logits (vec2 each).
 uint32_t densityPartialCount(uint32_t count);
 // Records the regulariser: gradLogits[i] += weight / count * d(sigmoid^2)/dlogit, result
-// as described above. `partials` holds densityPartialCount(count) vec2. Nothing for count 0.
-// Buffers too small for the sizes given are refused (refrax::Error) before recording.
+// as described above, logit i (and its gradient) at element i * stride + offset (training:
+// the Gaussian table's density logits and their gradients in place). `partials` holds
+// densityPartialCount(count) vec2. Nothing for count 0. Buffers too small for the sizes given
+// are refused (refrax::Error) before recording.
 void cmdDensityRegularizer(VkCommandBuffer cb, const LossPipelines& p, const Buffer& logits, uint32_t count,
                            const Buffer& gradLogits, const Buffer& partials, const Buffer& result,
-                           float weight = kDensityRegularizerWeight);
+                           float weight = kDensityRegularizerWeight, uint32_t stride = 1, uint32_t offset = 0);
 
 }  // namespace refrax

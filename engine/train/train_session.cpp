@@ -58,6 +58,8 @@ void allocateGaussianBuffers(TrainSession& s) {
   size_t n = std::max<size_t>(1, s.gaussians.count());
   s.grads = createBuffer(*s.ctx, n * kGaussianFloats * 4);
   s.stats = createBuffer(*s.ctx, n * 2 * 4);
+  s.densityPartials = createBuffer(*s.ctx, size_t(densityPartialCount(uint32_t(n))) * 8);
+  if (!s.densityResult) s.densityResult = createBuffer(*s.ctx, 16);
 }
 
 void createSurface(TrainSession& s) {
@@ -564,25 +566,29 @@ void surfaceStep(TrainSession& s, int t) {
   requireSurfaceInScene(s, t);
 }
 
-// The Gaussians' step after the backward: the density regulariser's gradient, Adam and the
-// density schedule (host). Returns mean(density^2).
+// The density regulariser (docs/method.md, the opacity term of the loss) on the device, after
+// the backward: its gradient added to the table's dL/dlogit in place, its value left in
+// densityResult for gaussianStep.
+void cmdDensityLoss(VkCommandBuffer cb, TrainSession& s) {
+  if (!(s.config.densityLossWeight > 0)) return;
+  cmdDensityRegularizer(cb, s.lossPipelines, s.device.params, s.device.count, s.grads, s.densityPartials, s.densityResult,
+                        float(s.config.densityLossWeight), kGaussianFloats, f32::kGaussLogitDensity);
+  profileStage(cb, *s.ctx, "density regulariser");
+}
+
+// The Gaussians' step after the backward (whose gradient holds the density regulariser's,
+// cmdDensityLoss): Adam and the density schedule (host). Returns the regulariser's value.
 double gaussianStep(TrainSession& s, int t) {
   Context& ctx = *s.ctx;
   const TrainConfig& c = s.config;
   std::vector<float> grads = downloadVector<float>(ctx, s.grads, s.gaussians.params.size());
   std::vector<float> stats = downloadVector<float>(ctx, s.stats, s.gaussians.count() * 2);
+  const double densityLoss = c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.densityResult, 4)[0] : 0.0;
   HostStage h(ctx, "gaussian adam (host)");
   for (size_t i = 0; i < stats.size(); i++) s.densifyStats[i] += stats[i];
-  size_t count = s.gaussians.count();
-  double densitySquares = 0;
-  for (size_t i = 0; i < count; i++) {
-    double sg = sigmoid(s.gaussians.at(i)[f32::kGaussLogitDensity]);
-    densitySquares += sg * sg;
-    grads[i * kGaussianFloats + f32::kGaussLogitDensity] += float(c.densityLossWeight / double(count) * 2 * sg * sg * (1 - sg));
-  }
   tableAdamStep(s.gaussianAdam, s.gaussians.params, grads);
   applyDensitySchedule(s, t);
-  return densitySquares / double(std::max<size_t>(1, count));
+  return densityLoss;
 }
 
 // Clone/split/prune when due (3DGS strategy); true when the table's rows changed.
@@ -641,6 +647,7 @@ StepResult trainStep(TrainSession& s) {
     vkCmdFillBuffer(cb, s.stats.buffer, 0, VK_WHOLE_SIZE, 0);
     cmdBarrier(cb);
     cmdBackwardBatch(cb, s, batch, opt, waterLearnsAt(s, t));
+    cmdDensityLoss(cb, s);
   });
   StepResult r;
   if (s.surface) r.missed = s.surface->lastCounters.missed;  // before a restart's plane sweep traces again
@@ -651,7 +658,7 @@ StepResult trainStep(TrainSession& s) {
     priorEnergy = s.priorEnergy;
   }
   if (surfaceStepAt(s, t)) surfaceStep(s, t);
-  const double densitySquares = gaussianStep(s, t);
+  const double densityLoss = gaussianStep(s, t);
   const bool countChanged = densifyStep(s, t);
   r.restarted = restartStep(s, t);
   {
@@ -659,7 +666,7 @@ StepResult trainStep(TrainSession& s) {
     syncGaussians(s, countChanged || r.restarted);
   }
   r.imageLoss = forward.imageLoss;
-  r.loss = r.imageLoss + s.config.densityLossWeight * densitySquares + priorEnergy;
+  r.loss = r.imageLoss + densityLoss + priorEnergy;
   r.psnr = batchPsnr(forward.rendered, forward.target, forward.weight);
   r.gaussians = uint32_t(s.gaussians.count());
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");

@@ -91,6 +91,7 @@ struct TrainSession {
   ImageLossScratch lossScratch;
   Buffer pixels, rays, refracted, records, results, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
   Buffer pixelWeights;    // the batch's mask (1: the pixel counts), for masked views
+  Buffer densityPartials, densityResult;  // the density regulariser's partial sums and value (engine/loss/image_loss.h)
   HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
 
   // Densification (engine/gaussian/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics

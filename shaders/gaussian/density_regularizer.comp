@@ -1,7 +1,8 @@
 #version 460
 // Density regulariser: weight * mean(sigmoid(logit)^2). Adds its gradient to gradLogit
 // (the Gaussian backward has written its own part there first) and writes per-workgroup
-// sums of sigmoid(logit)^2 for reduce_sums.
+// sums of sigmoid(logit)^2 for reduce_sums. Logit i (and its gradient) is element
+// i * stride + offset: training passes the Gaussian table and its gradient as they are.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "shared_prelude.glsl"
@@ -13,15 +14,17 @@ layout(std430, set = 0, binding = 2) writeonly buffer Partials { vec2 partial[];
 layout(push_constant) uniform Push {
   uint count;
   float scale;  // weight / count
+  uint stride, offset;
 } pc;
 shared float groupSum[256];
 void main() {
   uint i = gl_GlobalInvocationID.x;
   bool valid = i < pc.count;
   uint e = min(i, pc.count - 1u);
-  float z = logit[e];
+  uint at = e * pc.stride + pc.offset;
+  float z = logit[at];
   float s = sigmoidOf(z);
-  if (valid) gradLogit[e] += pc.scale * densitySquareSlope(z);
+  if (valid) gradLogit[at] += pc.scale * densitySquareSlope(z);
   uint l = gl_LocalInvocationID.x;
   groupSum[l] = valid ? s * s : 0.0;
   barrier();
