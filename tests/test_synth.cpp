@@ -15,6 +15,7 @@
 #include "engine/io/image_io.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
+#include "engine/loss/metrics.h"
 #include "engine/synth/render_view.h"
 #include "engine/synth/surface_intersect.h"
 #include "engine/synth/synth_dataset.h"
@@ -457,4 +458,26 @@ TEST_CASE("synth: the triangle BVH returns the closest hit that brute force find
     CHECK(glm::length(pf - (o + brute->t * d)) < 1e-9);
   }
   CHECK(hits >= 1790);
+}
+
+TEST_CASE("synth: --dry renders the same views without the water, as the water-removal views show the scene") {
+  const std::string wet = test::tinyDataset("nerfrac-primary-sine"), dry = test::tinyDataset("nerfrac-primary-sine", "--dry");
+  // The dry test view is the wet dataset's water-removal view of the same camera (up to the
+  // antialiasing jitter), and far from the view through the water.
+  const Image dryTest = readPng(dry + "/test/000.png"), wetTest = readPng(wet + "/test/000.png");
+  const Image wetAir = readPng(wet + "/test_air/000.png");
+  const double toAir = psnr(dryTest, wetAir), toWet = psnr(dryTest, wetTest);
+  INFO("dry test view vs the wet one's water removed: " << toAir << " dB, vs through the water: " << toWet << " dB");
+  CHECK(toAir > 24);  // 4 jittered samples per pixel of fine textures: 27 dB measured
+  CHECK(toWet < toAir - 6);  // 10 dB measured
+  CHECK(readPng(dry + "/train/000.png").pixels != readPng(wet + "/train/000.png").pixels);
+  // the same cameras and water.json, marked dry; no masks named
+  const nlohmann::json dryWater = readJson(dry + "/water.json"), wetWater = readJson(wet + "/water.json");
+  CHECK(dryWater.at("dry") == true);
+  CHECK(!dryWater.contains("masks"));
+  CHECK(dryWater.at("ior") == wetWater.at("ior"));
+  CHECK(dryWater.at("domain") == wetWater.at("domain"));
+  CHECK(readJson(dry + "/transforms_train.json").at("frames")[0].at("transform_matrix") ==
+        readJson(wet + "/transforms_train.json").at("frames")[0].at("transform_matrix"));
+  CHECK(!readJson(dry + "/transforms_train.json").at("frames")[0].contains("mask_path"));
 }

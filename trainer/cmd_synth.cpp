@@ -80,6 +80,7 @@ int runSynth(const cli::Args& args) {
   o.seed = uint64_t(seed);
   o.sizeName = size;
   o.progress = size == "full";
+  o.dry = args.has("dry");
   // Stop between views on Ctrl-C so the temporary folder is removed rather than left behind.
   o.cancel = &g_interrupted;
   std::signal(SIGINT, onInterrupt);
@@ -95,7 +96,7 @@ int runSynth(const cli::Args& args) {
 }
 
 REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-truth water (CPU)",
-                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--rim HALF] [--textures DIR]\n       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown",
+                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--rim HALF] [--dry] [--textures DIR]\n       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown",
                 {{"output", "DIR", "(or -o DIR) output folder; must not exist or be empty; appears only when complete", ""},
                  {"size", "tiny|full", "tiny: small images and simple geometry for CI", "full"},
                  {"seed", "N", "seed for the wave phases / spectrum and the antialiasing jitter", "1"},
@@ -106,6 +107,7 @@ REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-tr
                  {"tilt", "DEG", "NeRFrac-like presets: the 3 x 3 rig turned rigidly DEG (0..60) from the vertical about the pool-floor centre, which the centre camera keeps looking at (camera-tilt sweeps)", "0"},
                  {"ior", "X", "index of refraction of the water, 1 < X <= 2 (recorded in water.json)", "the preset's (1.1 NeRFrac-like, 1.33 RefracGS-like)"},
                  {"rim", "HALF", "a dry textured rim (a pool's edge) around the water, visible from every view so that structure from motion (COLMAP) can pose them: the water shrinks to +-HALF m around the domain's centre, the rim reaches out to +-2 HALF m, its top just above the highest crest (water.json's domain and ground truth follow)", ""},
+                 {"dry", "", "the dry control: the same dataset (cameras, scene, water.json) with the training and test views rendered without the water; train it with --no-refraction for the Gaussians' own ceiling", ""},
                  {"textures", "DIR", "texture folder (also REFRAX_TEXTURES); default: the repository's assets/textures", ""}},
                 runSynth});
 

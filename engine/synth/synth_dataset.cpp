@@ -199,8 +199,8 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
   if (p.writeLlff) fs::create_directories(fs::path(dir) / "images");
 
   std::vector<RenderJob> jobs;
-  for (size_t i = 0; i < p.train.size(); i++) jobs.push_back({"train", &p.train[i], i, true});
-  for (size_t i = 0; i < p.test.size(); i++) jobs.push_back({"test", &p.test[i], i, true});
+  for (size_t i = 0; i < p.train.size(); i++) jobs.push_back({"train", &p.train[i], i, !o.dry});
+  for (size_t i = 0; i < p.test.size(); i++) jobs.push_back({"test", &p.test[i], i, !o.dry});
   for (size_t i = 0; i < p.test.size(); i++) jobs.push_back({"test_air", &p.test[i], i, false});
   for (size_t i = 0; i < p.air.size(); i++) jobs.push_back({"air", &p.air[i], i, false});
 
@@ -214,7 +214,7 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
   for (size_t k = 0; k < jobs.size(); k++) {
     if (o.cancel && o.cancel->load()) fail("synth: interrupted; nothing was written to the output folder");
     const RenderJob& job = jobs[k];
-    uint64_t key = mixKeys(k, job.water ? 1 : 2);
+    uint64_t key = mixKeys(k, job.split == "train" || job.split == "test" ? 1 : 2);  // the dry control's views jitter as the wet ones
     RenderedView v = renderView(p.scene, job.water ? &p.water : nullptr, p.ior, *job.camera, settings, key);
     std::string stem = indexName(job.index);
     writePng((fs::path(dir) / job.split / (stem + ".png")).string(), toImage(v.width, v.height, 3, v.rgb));
@@ -253,8 +253,8 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
     j["frames"] = frames;
     writeJson((fs::path(dir) / file).string(), j);
   };
-  writeSplit("transforms_train.json", "train", p.train, true, "");
-  writeSplit("transforms_test.json", "test", p.test, true, "test_air");
+  writeSplit("transforms_train.json", "train", p.train, !o.dry, "");
+  writeSplit("transforms_test.json", "test", p.test, !o.dry, "test_air");
   writeSplit("transforms_air.json", "air", p.air, false, "");
 
   // Ground truth surface.
@@ -294,6 +294,12 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
                    "miss the domain go on unrefracted";
   water["images"] = "train/, test/: through the water; test_air/ and air/: the same scene with the water removed (test_air: the test "
                     "cameras, air: the water-removal cameras); file paths in transforms_*.json omit the .png extension (Blender convention)";
+  if (o.dry) {
+    water["dry"] = true;
+    water["images"] = "the dry control (refrax synth --dry): train/ and test/ rendered with the water removed, the same cameras and scene "
+                      "as the dataset without --dry; test_air/ and air/ as there; file paths in transforms_*.json omit the .png extension";
+    water.erase("masks");
+  }
   water["samples_per_pixel"] = p.samplesPerAxis * p.samplesPerAxis;
   nlohmann::json miss;
   for (const auto& [split, v] : missFraction) miss[split] = v;

@@ -18,6 +18,11 @@ struct SynthWriteOptions {
   // generateSynthDataset removes its temporary folder (the CLI sets it on SIGINT / SIGTERM).
   const std::atomic<bool>* cancel = nullptr;
   int threads = 2;
+  // The dry control (refrax synth --dry): the training and test views rendered with the water
+  // removed (same cameras, scene and jitter), so that straight-ray training on them shows what
+  // the Gaussians reach at a budget without the water. water.json, the ground truth and the
+  // air views are as without it; no masks (they mark where the water is seen).
+  bool dry = false;
 };
 
 // Writes every file into `dir`, which must exist (and should be empty).
