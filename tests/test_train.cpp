@@ -631,3 +631,25 @@ TEST_CASE("train: bad datasets give one clear error and leave no run folder" * d
 
 }  // namespace
 }  // namespace refrax
+
+namespace refrax {
+
+GPU_TEST_CASE("train: a step's loss holds the density regulariser of the table it traced") {
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  Dataset d;
+  TrainConfig c = test::sessionConfig(data, 20, 300, 16, 5, d);
+  c.schedule.surfaceFreeze = 1000;  // no water prior in the loss
+  c.densityLossWeight = 0.5;
+  auto s = createTrainSession(ctx, c, d);
+  for (int step = 0; step < 3; step++) {
+    double squares = 0;  // the regulariser of the table the step traces: weight * mean(sigmoid(logit)^2)
+    for (size_t i = 0; i < s->gaussians.count(); i++) {
+      const double density = 1 / (1 + std::exp(-double(s->gaussians.at(i)[f32::kGaussLogitDensity])));
+      squares += density * density;
+    }
+    const StepResult r = trainStep(*s);
+    CHECK(r.loss - r.imageLoss == doctest::Approx(c.densityLossWeight * squares / double(s->gaussians.count())).epsilon(1e-4));
+  }
+}
+
+}  // namespace refrax
