@@ -38,27 +38,6 @@ const std::vector<PresetEntry>& presetTable() {
   return table;
 }
 
-// One material per call; each texture file is loaded once.
-struct MaterialSet {
-  SynthScene& scene;
-  std::string dir;
-  std::map<std::string, int> textureIndex;
-
-  int get(const std::string& stem, glm::dvec2 uvScale = {1, 1}, glm::dvec3 tint = {1, 1, 1}) {
-    auto it = textureIndex.find(stem);
-    int tex;
-    if (it == textureIndex.end()) {
-      tex = int(scene.textures.size());
-      scene.textures.push_back(loadSynthTexture(dir, stem));
-      textureIndex[stem] = tex;
-    } else {
-      tex = it->second;
-    }
-    scene.materials.push_back({tex, uvScale, tint});
-    return int(scene.materials.size()) - 1;
-  }
-};
-
 DirectionalWave sineAlong(double amplitude, double wavelength, double directionDeg, double phase) {
   double k = 2 * kPi / wavelength;
   return {amplitude, k * std::cos(directionDeg * kDeg), k * std::sin(directionDeg * kDeg), phase};
@@ -177,6 +156,16 @@ void checkSceneBelowWater(const SynthPreset& p) {
     top = std::max(top, hi.z);
   }
   if (top >= p.water.meanHeight - waveHeightBound(p.water)) fail("synth preset " + p.name + ": the waves reach into the scene under the water");
+}
+
+int MaterialSet::get(const std::string& stem, glm::dvec2 uvScale, glm::dvec3 tint) {
+  auto it = textureIndex.find(stem);
+  if (it == textureIndex.end()) {
+    it = textureIndex.emplace(stem, int(scene.textures.size())).first;
+    scene.textures.push_back(loadSynthTexture(dir, stem));
+  }
+  scene.materials.push_back({it->second, uvScale, tint});
+  return int(scene.materials.size()) - 1;
 }
 
 std::vector<std::string> synthPresetNames() {

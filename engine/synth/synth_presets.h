@@ -3,6 +3,7 @@
 // IOR 1.1, sine-based water) and of RefracGS's scenes (1.5 m x 1.5 m x 1 m, IOR 1.33, a
 // rippled surface drawn from a wave spectrum, surround rings plus a downward variant).
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,5 +63,12 @@ void applySynthVariation(SynthPreset& preset, const SynthVariation& variation);
 void checkSceneBelowWater(const SynthPreset& preset);
 // Textures by file stem from textureDir, as RGB.
 SynthTexture loadSynthTexture(const std::string& textureDir, const std::string& stem);
+// Materials for a scene: one per get(), each texture file loaded once (by stem, from dir).
+struct MaterialSet {
+  SynthScene& scene;
+  std::string dir;
+  std::map<std::string, int> textureIndex;
+  int get(const std::string& stem, glm::dvec2 uvScale = {1, 1}, glm::dvec3 tint = {1, 1, 1});
+};
 
 }  // namespace refrax::synth

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
 
 #include "engine/base/error.h"
 
@@ -31,17 +30,8 @@ void addSynthRim(SynthPreset& p, double a, const std::string& textureDir) {
 
   // Each block its own photograph, so that no two parts of the rim look alike to a feature
   // matcher (a tiled texture would give repeated, ambiguous features).
-  std::map<std::string, int> textureIndex;
-  auto material = [&](const std::string& stem, glm::dvec2 uvScale, glm::dvec3 tint) {
-    auto it = textureIndex.find(stem);
-    if (it == textureIndex.end()) {
-      it = textureIndex.emplace(stem, int(p.scene.textures.size())).first;
-      p.scene.textures.push_back(loadSynthTexture(textureDir, stem));
-    }
-    p.scene.materials.push_back({it->second, uvScale, tint});
-    return int(p.scene.materials.size()) - 1;
-  };
-  const int wall = material("brick", {3, 1}, {0.8, 0.75, 0.7});
+  MaterialSet materials{p.scene, textureDir, {}};
+  const int wall = materials.get("brick", {3, 1}, {0.8, 0.75, 0.7});
   struct Block {
     double x, y;  // centre, in units of the half-opening
     const char* texture;
@@ -53,7 +43,7 @@ void addSynthRim(SynthPreset& p, double a, const std::string& textureDir) {
   const double hz = 0.5 * (top - bottom), zc = 0.5 * (top + bottom);
   for (const Block& k : blocks) {
     glm::dvec3 half(k.x == 0 ? a : 0.5 * a, k.y == 0 ? a : 0.5 * a, hz);
-    b.box({cx + k.x * a, cy + k.y * a, zc}, half, 0, wall, material(k.texture, {1, 1}, {1, 1, 1}));
+    b.box({cx + k.x * a, cy + k.y * a, zc}, half, 0, wall, materials.get(k.texture));
   }
   p.scene.bvh = buildTriangleBvh(std::move(b.triangles));
   p.scene.geometryAboveWater = true;
