@@ -8,6 +8,7 @@
 
 #include "engine/base/error.h"
 #include "engine/dataset/colmap_model.h"
+#include "engine/dataset/symmetric_eigen.h"
 #include "engine/dataset/dataset.h"
 #include "engine/dataset/view_image.h"
 #include "engine/io/atomic_file.h"
@@ -65,14 +66,14 @@ glm::dmat4 cameraToWorld(const ColmapImage& im) {
   return m;
 }
 
-// Smallest-eigenvalue eigenvector of a symmetric 3x3 matrix (the normal of a plane fit), by
-// inverse-free power iteration on (trace * I - A).
+// Smallest-eigenvalue eigenvector of a symmetric 3x3 matrix (the normal of a plane fit).
 glm::dvec3 leastAxis(const glm::dmat3& a) {
-  double tr = a[0][0] + a[1][1] + a[2][2];
-  glm::dmat3 b = glm::dmat3(tr) - a;
-  glm::dvec3 v(0.31, 0.57, 0.76);
-  for (int i = 0; i < 200; i++) v = glm::normalize(b * v);
-  return v;
+  double m[4][4] = {};
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) m[i][j] = a[j][i];
+  const SymmetricEigen e = symmetricEigen(m, 3);
+  const int k = e.smallest();
+  return glm::dvec3(e.vectors[0][k], e.vectors[1][k], e.vectors[2][k]);
 }
 
 // "Up" for the water (toward the cameras): given, or derived from the cameras (see dataset.h).

@@ -6,45 +6,10 @@
 
 #include "engine/base/error.h"
 #include "engine/dataset/colmap_model.h"
+#include "engine/dataset/symmetric_eigen.h"
 
 namespace refrax {
 namespace {
-
-// Eigen-decomposition of a symmetric n x n matrix (n <= 4) by cyclic Jacobi rotations:
-// a is destroyed, values[k] is the k-th eigenvalue, vectors[.][k] its unit eigenvector.
-void jacobiEigen(double a[4][4], int n, double values[4], double vectors[4][4]) {
-  for (int i = 0; i < n; i++)
-    for (int j = 0; j < n; j++) vectors[i][j] = i == j ? 1 : 0;
-  for (int sweep = 0; sweep < 50; sweep++) {
-    double off = 0, scale = 0;
-    for (int i = 0; i < n; i++)
-      for (int j = 0; j < n; j++) (i == j ? scale : off) += a[i][j] * a[i][j];
-    if (off <= 1e-30 * scale || off == 0) break;
-    for (int p = 0; p < n; p++)
-      for (int q = p + 1; q < n; q++) {
-        if (a[p][q] == 0) continue;
-        double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
-        double t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
-        double c = 1 / std::sqrt(t * t + 1), s = t * c;
-        for (int k = 0; k < n; k++) {  // columns p, q
-          double akp = a[k][p], akq = a[k][q];
-          a[k][p] = c * akp - s * akq;
-          a[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < n; k++) {  // rows p, q
-          double apk = a[p][k], aqk = a[q][k];
-          a[p][k] = c * apk - s * aqk;
-          a[q][k] = s * apk + c * aqk;
-        }
-        for (int k = 0; k < n; k++) {
-          double vkp = vectors[k][p], vkq = vectors[k][q];
-          vectors[k][p] = c * vkp - s * vkq;
-          vectors[k][q] = s * vkp + c * vkq;
-        }
-      }
-  }
-  for (int i = 0; i < n; i++) values[i] = a[i][i];
-}
 
 glm::dvec3 mean(const std::vector<glm::dvec3>& v) {
   glm::dvec3 m(0.0);
@@ -88,8 +53,9 @@ Similarity fitSimilarity(const std::vector<glm::dvec3>& from, const std::vector<
   }
   // Collinear (or coincident) centres leave the rotation about their line free: the second
   // largest principal spread must not vanish next to the largest.
-  double spreadValues[4], unused[4][4];
-  jacobiEigen(cov, 3, spreadValues, unused);
+  double spreadValues[4];
+  const SymmetricEigen spreads = symmetricEigen(cov, 3);
+  std::copy(spreads.values, spreads.values + 3, spreadValues);
   std::sort(spreadValues, spreadValues + 3);
   if (!(spreadValues[1] > 1e-10 * spreadValues[2]) || !(spread > 0))
     fail("pose alignment: the estimated camera centres are (nearly) collinear; a similarity cannot be fitted to them");
@@ -102,10 +68,9 @@ Similarity fitSimilarity(const std::vector<glm::dvec3>& from, const std::vector<
       {s[2][0] - s[0][2], s[0][1] + s[1][0], -s[0][0] + s[1][1] - s[2][2], s[1][2] + s[2][1]},
       {s[0][1] - s[1][0], s[2][0] + s[0][2], s[1][2] + s[2][1], -s[0][0] - s[1][1] + s[2][2]},
   };
-  double values[4], vectors[4][4];
-  jacobiEigen(n, 4, values, vectors);
-  int best = int(std::max_element(values, values + 4) - values);
-  glm::dvec4 q(vectors[0][best], vectors[1][best], vectors[2][best], vectors[3][best]);  // (w, x, y, z)
+  const SymmetricEigen horn = symmetricEigen(n, 4);
+  const int best = horn.largest();
+  glm::dvec4 q(horn.vectors[0][best], horn.vectors[1][best], horn.vectors[2][best], horn.vectors[3][best]);  // (w, x, y, z)
   Similarity out;
   out.rotation = colmapRotation(q / glm::length(q));  // the standard quaternion-to-matrix map
   // The least-squares scale for that rotation: sum y . R x / sum |x|^2.
