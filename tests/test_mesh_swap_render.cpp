@@ -13,7 +13,7 @@
 #include "engine/surface/mesh_surface.h"
 #include "engine/reference/gaussian_trace_ref.h"
 #include "engine/reference/mesh_refract_ref.h"
-#include "engine/train/render_run.h"
+#include "engine/model/render_model.h"
 #include "engine/train/train_run.h"
 #include "engine/train/train_session.h"
 #include "engine/vk/vk_buffer.h"

@@ -19,7 +19,7 @@
 #include "engine/io/npy.h"
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
-#include "engine/train/render_run.h"
+#include "engine/model/render_model.h"
 #include "engine/train/train_run.h"
 #include "tests/gpu_test.h"
 #include "tests/train_test_util.h"

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "engine/train/render_run.h"
+#include "engine/model/render_model.h"
 #include "engine/view/view_camera.h"
 #include "tests/gpu_test.h"
 

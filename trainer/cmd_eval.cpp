@@ -4,8 +4,8 @@
 
 #include "engine/base/error.h"
 #include "engine/io/json_io.h"
-#include "engine/train/render_run.h"
-#include "engine/train/train_run.h"
+#include "engine/model/render_model.h"
+#include "engine/model/open_model.h"
 #include "engine/vk/vk_context.h"
 #include "trainer/cli.h"
 
@@ -20,9 +20,10 @@ int runEval(const cli::Args& args) {
   std::optional<Dataset> other;
   if (args.has("dataset")) other = loadDataset(args.get("dataset"), config.datasetOptions);
   auto ctx = cli::openContext(args);
-  auto session = openRun(*ctx, run);
-  nlohmann::json m = evaluateSession(*session, other ? *other : session->dataset, "");
-  m["dataset"] = other ? other->root : session->dataset.root;
+  const Dataset dataset = loadRunDataset(config);
+  auto model = openModel(*ctx, run, dataset);
+  nlohmann::json m = evaluateModel(*model, other ? *other : dataset, "");
+  m["dataset"] = other ? other->root : dataset.root;
   writeJson(args.get("output"), m);
   std::printf("%s\n", m.dump(2).c_str());
   return 0;

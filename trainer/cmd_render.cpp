@@ -14,8 +14,8 @@
 #include "engine/io/gltf_surface.h"
 #include "engine/io/image_io.h"
 #include "engine/surface/mesh_surface.h"
-#include "engine/train/render_run.h"
-#include "engine/train/train_run.h"
+#include "engine/model/render_model.h"
+#include "engine/model/open_model.h"
 #include "engine/vk/vk_context.h"
 #include "trainer/cli.h"
 
@@ -80,7 +80,8 @@ int runRender(const cli::Args& args) {
   std::string split = args.get("split", "test");
   auto folder = cli::createOutputFolder(out, "-o");
   auto ctx = cli::openContext(args);
-  auto session = openRun(*ctx, run);
+  const Dataset dataset = loadRunDataset(config);
+  auto model = openModel(*ctx, run, dataset);
   if (single) {
     auto v = parseList(args.get("camera"), 6, "camera");
     long w = args.getInt("width", 256), h = args.getInt("height", 256);
@@ -88,7 +89,7 @@ int runRender(const cli::Args& args) {
     double fov = args.getDouble("fov", 45.0);
     cameras.push_back({"camera.png", lookAtCamera({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, int(w), int(h), fov * M_PI / 180)});
   } else {
-    const auto& views = session->dataset.split(split);
+    const auto& views = dataset.split(split);
     for (size_t i = 0; i < views.size(); i++) {
       char name[48];
       std::snprintf(name, sizeof name, "%s_%03zu.png", split.c_str(), i);
@@ -102,7 +103,7 @@ int runRender(const cli::Args& args) {
   folder->keep();
   const SwapSurface swapSurface{swap ? &*swap : nullptr, swapMesh ? &*swapMesh : nullptr};
   for (const auto& [name, cam] : cameras) {
-    RenderedView r = renderView(*session, cam, mode, swapSurface);
+    RenderedView r = renderView(*model, cam, mode, swapSurface);
     writePng((fs::path(out) / name).string(), r.image);
     std::printf("wrote %s\n", (fs::path(out) / name).string().c_str());
   }
@@ -111,7 +112,7 @@ int runRender(const cli::Args& args) {
     // frame time of a headless render (camera rays, water, Gaussians, download) on this device.
     auto t0 = std::chrono::steady_clock::now();
     for (long k = 0; k < benchmark; k++)
-      for (const auto& [name, cam] : cameras) renderView(*session, cam, mode, swapSurface);
+      for (const auto& [name, cam] : cameras) renderView(*model, cam, mode, swapSurface);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / double(benchmark * cameras.size());
     std::printf("benchmark: %s, %dx%d, water %s, %zu views x %ld: %.2f ms per frame (%.1f FPS), %s trace\n", ctx->caps.name.c_str(),
                 cameras.front().second.width, cameras.front().second.height, water.c_str(), cameras.size(), benchmark, ms, 1000.0 / ms,

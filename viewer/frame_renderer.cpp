@@ -118,7 +118,7 @@ void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, cons
   }
   r.surface->config.ior = s.ior;
   // As renderView: the learned surface with the normals of its training phase, a swapped-in one smooth.
-  r.surface->config.faceNormals = water == WaterMode::Kept && scene.session && scene.session->step <= scene.session->config.schedule.faceNormalsUntil;
+  r.surface->config.faceNormals = water == WaterMode::Kept && scene.model && scene.model->step <= scene.model->config.schedule.faceNormalsUntil;
 
   HeightSource source;
   std::string heights;

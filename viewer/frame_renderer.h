@@ -1,7 +1,7 @@
 #pragma once
 // One viewer frame of the Gaussians: camera rays -> (water kept or swapped: refraction at the
 // surface) -> Gaussian forward trace (tiled by default) -> RGBA8 pixels (colour or hit heat map), the same stages
-// and inputs as `refrax render` (engine/train/render_run.cpp), so a screenshot equals its PNG.
+// and inputs as `refrax render` (engine/model/render_model.cpp), so a screenshot equals its PNG.
 //
 // Two ways through the water:
 //  - baked (the default, the fast path): the water as a triangle mesh (engine/surface/mesh_surface.h):

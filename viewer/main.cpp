@@ -25,7 +25,7 @@
 #include "engine/view/fly_camera.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/io/ply_gaussians.h"
-#include "engine/train/train_run.h"
+#include "engine/model/open_model.h"
 #include "engine/view/frame_clock.h"
 #include "engine/view/view_camera.h"
 #include "engine/vk/vk_commands.h"
@@ -188,14 +188,14 @@ int runViewer(const cli::Args& args) {
   if (scene) {
     rs.swap.height = scene->waterHeight;
     rs.ior = float(args.getDouble("ior", scene->ior));
-    rs.shDegree = scene->session ? shDegreeAt(scene->session->config, std::max(1, scene->session->step)) : scene->maxShDegree;
-    if (scene->session) {
-      rs.gridCells = scene->session->config.gridCells;
-      rs.subdivisionLevels = scene->session->config.subdivisionLevels;
+    rs.shDegree = scene->model ? shDegreeAt(scene->model->config, std::max(1, scene->model->step)) : scene->maxShDegree;
+    if (scene->model) {
+      rs.gridCells = scene->model->config.gridCells;
+      rs.subdivisionLevels = scene->model->config.subdivisionLevels;
       // The baked mesh's vertices on the finest lattice the trainer's subdivision evaluates H at.
-      rs.bakeCells = scene->session->config.gridCells << scene->session->config.subdivisionLevels;
+      rs.bakeCells = scene->model->config.gridCells << scene->model->config.subdivisionLevels;
     }
-    applyWaterOption(args.get("water", scene->session ? "keep" : "remove"), scene->waterHeight, rs);
+    applyWaterOption(args.get("water", scene->model ? "keep" : "remove"), scene->waterHeight, rs);
     if (args.has("view")) state.snappedCamera = findCamera(*scene, args.get("view"));
     // Without a camera given, open where the test views are seen from (a free camera outside
     // a top-down rig sees a trained scene's floaters): the first test camera, else the first.

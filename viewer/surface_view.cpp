@@ -4,7 +4,7 @@
 
 #include "engine/surface/grid_mesh.h"
 #include "engine/io/gltf_surface.h"
-#include "engine/train/train_run.h"
+#include "engine/model/open_model.h"
 #include "engine/vk/vk_context.h"
 
 namespace refrax {
@@ -33,7 +33,7 @@ const SurfacePreview& surfaceViewFor(Context& ctx, SurfaceView& view, ViewScene*
   if (view.preview && view.key == key) return *view.preview;
   if (learned) {
     const SurfaceDomain& d = scene->domain;
-    std::vector<double> h = sampleWaterHeights(*scene->session, kCells + 1, kCells + 1);
+    std::vector<double> h = sampleWaterHeights(*scene->model, kCells + 1, kCells + 1);
     mesh = makeGridMesh(kCells, kCells, d.x0, d.y0, d.x1, d.y1);
     for (uint32_t i = 0; i < mesh.vertexCount(); i++) mesh.vertices[3 * i + 2] = float(h[i]);
   } else if (gltf) {

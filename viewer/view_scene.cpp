@@ -6,8 +6,8 @@
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_math.h"
 #include "engine/io/ply_gaussians.h"
-#include "engine/train/checkpoint.h"
-#include "engine/train/train_run.h"
+#include "engine/model/open_model.h"
+#include "engine/train/checkpoint_files.h"
 #include "engine/vk/vk_context.h"
 
 namespace refrax {
@@ -18,7 +18,7 @@ namespace {
 
 void collectCameras(ViewScene& scene) {
   scene.cameras.clear();
-  for (const auto& [split, views] : scene.session->dataset.splits)
+  for (const auto& [split, views] : scene.dataset.splits)
     for (size_t i = 0; i < views.size(); i++) {
       char name[64];
       std::snprintf(name, sizeof name, "%s %03zu", split.c_str(), i);
@@ -40,19 +40,20 @@ std::unique_ptr<ViewScene> openRunScene(Context& ctx, const std::string& runDir,
   scene->runDir = runDir;
   scene->watch.runDir = runDir;
   markTaken(scene->watch, latestCheckpoint(runDir));
-  scene->session = openRun(ctx, runDir);
+  scene->dataset = loadRunDataset(config);
+  scene->model = openModel(ctx, runDir, scene->dataset);
   scene->generation = 1;
-  scene->status = "loaded step " + std::to_string(scene->session->step);
-  std::printf("refrax-view: loaded step %d (%s)\n", scene->session->step, scene->watch.taken.c_str());
+  scene->status = "loaded step " + std::to_string(scene->model->step);
+  std::printf("refrax-view: loaded step %d (%s)\n", scene->model->step, scene->watch.taken.c_str());
   std::fflush(stdout);
   scene->lastPoll = std::chrono::steady_clock::now();
-  const TrainConfig& c = scene->session->config;
+  const TrainConfig& c = scene->model->config;
   scene->domain = {float(c.domain.xMin), float(c.domain.yMin), float(c.domain.xMax), float(c.domain.yMax)};
   scene->waterHeight = float(c.waterHeight);
   scene->ior = float(c.ior);
   for (int ch = 0; ch < 3; ch++) scene->background[ch] = float(c.datasetOptions.background[ch]);
   scene->maxShDegree = c.maxShDegree;
-  scene->proxyKind = scene->session->proxyKind;
+  scene->proxyKind = scene->model->proxyKind;
   scene->tracer = createGaussianTracer(ctx, K);
   collectCameras(*scene);
   return scene;
@@ -91,36 +92,36 @@ std::unique_ptr<ViewScene> openPlyScene(Context& ctx, const std::string& plyPath
 }
 
 bool pollRunCheckpoint(ViewScene& scene, std::chrono::milliseconds interval) {
-  if (!scene.session) return false;
+  if (!scene.model) return false;
   auto now = std::chrono::steady_clock::now();
   if (now - scene.lastPoll < interval) return false;
   scene.lastPoll = now;
   std::string newest = newerCheckpoint(scene.watch);
   if (newest.empty()) return false;
   try {
-    loadCheckpoint(*scene.session, newest);
+    loadModelCheckpoint(*scene.model, newest, scene.dataset);
   } catch (const Error& e) {
     scene.status = std::string("reload failed (retrying): ") + e.what();
     return false;
   }
   markTaken(scene.watch, newest);
   scene.generation++;
-  scene.status = "loaded step " + std::to_string(scene.session->step);
-  std::printf("refrax-view: loaded step %d (%s)\n", scene.session->step, newest.c_str());
+  scene.status = "loaded step " + std::to_string(scene.model->step);
+  std::printf("refrax-view: loaded step %d (%s)\n", scene.model->step, newest.c_str());
   std::fflush(stdout);
   return true;
 }
 
-const DeviceGaussians& sceneGaussians(const ViewScene& s) { return s.session ? s.session->device : s.plyDevice; }
-const GaussianProxies& sceneProxies(const ViewScene& s) { return s.session ? s.session->proxies : s.plyProxies; }
+const DeviceGaussians& sceneGaussians(const ViewScene& s) { return s.model ? s.model->device : s.plyDevice; }
+const GaussianProxies& sceneProxies(const ViewScene& s) { return s.model ? s.model->proxies : s.plyProxies; }
 uint32_t sceneGaussianCount(const ViewScene& s) { return sceneGaussians(s).count; }
 
 std::optional<HeightSource> learnedWater(const ViewScene& s) {
-  if (!s.session || s.session->config.model == WaterModel::NoRefraction) return std::nullopt;
-  return currentHeightSource(*s.session);
+  if (!s.model || s.model->config.model == WaterModel::NoRefraction) return std::nullopt;
+  return currentHeightSource(*s.model);
 }
 
-int sceneStep(const ViewScene& s) { return s.session ? s.session->step : -1; }
+int sceneStep(const ViewScene& s) { return s.model ? s.model->step : -1; }
 
 void setTracerK(ViewScene& s, uint32_t K) {
   if (K == s.tracer.K) return;

@@ -1,7 +1,7 @@
 #pragma once
-// What the viewer shows: a training run (its newest checkpoint, restored by the trainer's own
-// openRun/loadCheckpoint, with its learned water and its dataset's cameras) or a 3DGS PLY on
-// its own. A run is followed: pollRunCheckpoint reloads when a newer checkpoint appears
+// What the viewer shows: a training run's model (its newest checkpoint, loaded by openModel,
+// engine/model/open_model.h, with its learned water and its dataset's cameras) or a 3DGS PLY
+// on its own. A run is followed: pollRunCheckpoint reloads when a newer checkpoint appears
 // (checkpoints are written atomically, so a file that exists is complete).
 #include <chrono>
 #include <filesystem>
@@ -16,7 +16,7 @@
 #include "engine/gaussian/gaussians.h"
 #include "engine/height/height_source.h"
 #include "engine/train/checkpoint_watch.h"
-#include "engine/train/train_session.h"
+#include "engine/model/model.h"
 #include "engine/surface/water_surface.h"
 
 namespace refrax {
@@ -27,9 +27,10 @@ struct ViewScene {
   Context* ctx = nullptr;
   std::string source;  // the run folder or the PLY path (for the title and messages)
 
-  // A run: the session restored from `checkpoint`.
+  // A run: its dataset (cameras, training views) and its model at the loaded checkpoint.
   std::string runDir;
-  std::unique_ptr<TrainSession> session;
+  Dataset dataset;
+  std::unique_ptr<Model> model;
   CheckpointWatch watch;
   std::chrono::steady_clock::time_point lastPoll{};
   uint64_t generation = 0;  // +1 per (re)load: the viewer rebuilds what depends on the model
@@ -53,7 +54,7 @@ struct ViewScene {
 };
 
 // refrax::Error (one message) for a folder that is not a run, has no checkpoint, or whose
-// dataset is missing (its cameras and the session's training views need it).
+// dataset is missing (its cameras and training views are part of the model's loading).
 std::unique_ptr<ViewScene> openRunScene(Context& ctx, const std::string& runDir, uint32_t K);
 // `gaussians`: read from plyPath (readGaussiansPly, before any window opens). domain: the water's extent; empty = the Gaussians' xy bounds, padded by a tenth per side.
 std::unique_ptr<ViewScene> openPlyScene(Context& ctx, const std::string& plyPath, GaussianSet gaussians, uint32_t K, std::optional<SurfaceDomain> domain,

@@ -10,21 +10,12 @@
 // it. A missing, truncated, corrupted or mismatched file is one refrax::Error.
 #include <string>
 
+#include "engine/train/checkpoint_files.h"
 #include "engine/train/train_session.h"
 
 namespace refrax {
 
-std::string checkpointPath(const std::string& runDir, int step);
 void saveCheckpoint(TrainSession& session, const std::string& runDir);
-// The newest checkpoint of the run ("" when there is none).
-std::string latestCheckpoint(const std::string& runDir);
-// Checks the file's magic, version and checksum without a session (refrax::Error otherwise).
-void verifyCheckpointFile(const std::string& path);
-// The step of a checkpoint from its file name (-1 when it is not one).
-int checkpointStep(const std::string& path);
-// The newest checkpoint of the run before `step` that verifies ("" when none does): what a
-// run whose newest checkpoint is corrupted can resume from.
-std::string intactCheckpointBefore(const std::string& runDir, int step);
 // Restores a session created from the run's config.json.
 void loadCheckpoint(TrainSession& session, const std::string& path);
 

@@ -26,6 +26,8 @@ WaterModel parseWaterModel(const std::string& name) {
   fail("unknown water model '" + name + "' (refraction, no-refraction, flat-water)");
 }
 
+int surfaceBatchSteps(const TrainConfig& c, size_t trainViews) { return c.surfaceBatch > 0 ? c.surfaceBatch : int(trainViews); }
+
 namespace {
 
 void scaled(int& value, int reference, double scale, int minimum) {

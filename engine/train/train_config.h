@@ -138,6 +138,9 @@ float encodingWindowAt(const TrainConfig& config, int t);
 // at each surface step (every surfaceBatchSteps steps once it learns, t > surfaceFreeze);
 // before the first it keeps the coarse window of step 0.
 float encodingWindowAfterStep(const TrainConfig& config, int t, int surfaceBatchSteps = 1);
+// Steps per surface Adam step: config.surfaceBatch, or with 0 (--surface-batch views) the
+// training view count.
+int surfaceBatchSteps(const TrainConfig& config, size_t trainViews);
 // Throws refrax::Error naming the first bad value.
 void validateTrainConfig(const TrainConfig& config);
 

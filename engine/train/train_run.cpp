@@ -14,7 +14,7 @@
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/init_gaussians.h"
-#include "engine/train/render_run.h"
+#include "engine/model/render_model.h"
 #include "engine/train/train_views.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
@@ -50,28 +50,6 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
   resolveSchedule(c);
   validateTrainConfig(c);
   if (c.model == WaterModel::KnownWater) loadGroundTruthWaves(d);  // refused before any device work
-}
-
-std::vector<double> sampleWaterHeights(TrainSession& s, uint32_t nx, uint32_t ny) {
-  const Rect& r = s.config.domain;
-  std::vector<float> xy(size_t(nx) * ny * 2);
-  for (uint32_t j = 0; j < ny; j++)
-    for (uint32_t i = 0; i < nx; i++) {
-      xy[2 * (j * nx + i)] = float(r.xMin + (r.xMax - r.xMin) * i / double(nx - 1));
-      xy[2 * (j * nx + i) + 1] = float(r.yMin + (r.yMax - r.yMin) * j / double(ny - 1));
-    }
-  std::vector<double> out(size_t(nx) * ny, s.config.model == WaterModel::FlatWater ? s.planeHeight : s.config.waterHeight);
-  if (s.config.model == WaterModel::KnownWater)
-    for (size_t k = 0; k < out.size(); k++) out[k] = analyticHeightRef(s.plane.waves, xy[2 * k], xy[2 * k + 1]);
-  if (s.height) {
-    Context& ctx = *s.ctx;
-    Buffer points = createBufferFrom(ctx, xy);
-    Buffer heights = createBuffer(ctx, out.size() * 4);
-    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdEvaluateHeights(cb, *s.height, points, uint32_t(out.size()), heights); });
-    auto h = downloadVector<float>(ctx, heights, out.size());
-    for (size_t k = 0; k < out.size(); k++) out[k] = h[k];
-  }
-  return out;
 }
 
 namespace {
@@ -112,7 +90,7 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
     writeNpy((dir / "water_height.npy").string(), a);
   }
   if (s.height) saveHeightField((dir / "height_field.bin").string(), *s.ctx, *s.height);
-  nlohmann::json m = evaluateSession(s, s.dataset, (dir / "renders").string());
+  nlohmann::json m = evaluateModel(s, s.dataset, (dir / "renders").string());
   m["water_height_domain"] = {s.config.domain.xMin, s.config.domain.yMin, s.config.domain.xMax, s.config.domain.yMax};
   if (s.config.model == WaterModel::FlatWater) m["flat_water_height"] = s.planeHeight;
   nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
@@ -160,7 +138,7 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     const bool checkpoint = c.checkpointEvery > 0 && s.step % c.checkpointEvery == 0;
     if (evaluate || checkpoint) pushWaterGradient(s);
     if (evaluate) {
-      nlohmann::json m = evaluateSession(s, s.dataset, "");
+      nlohmann::json m = evaluateModel(s, s.dataset, "");
       // Kept on disk as it grows, so a resumed run's curve still starts at step 0.
       nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
       evaluations.push_back(evaluationPoint(s, m));
@@ -176,19 +154,11 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
   return writeRunOutputs(s, runDir);
 }
 
-TrainConfig readRunConfig(const std::string& runDir) {
-  std::string path = (std::filesystem::path(runDir) / "config.json").string();
-  if (!fileExists(path)) fail(runDir + " is not a training run (no config.json)");
-  return trainConfigFromJson(readJson(path), path);
-}
-
 std::unique_ptr<TrainSession> openRun(Context& ctx, const std::string& runDir, bool requireCheckpoint) {
   TrainConfig c = readRunConfig(runDir);
   std::string ckpt = latestCheckpoint(runDir);
   if (ckpt.empty() && requireCheckpoint) fail(runDir + " has no checkpoint yet");
-  Dataset dataset = loadDataset(c.dataset, c.datasetOptions);
-  keepTrainViews(dataset, c.trainViews);
-  auto s = createTrainSession(ctx, c, std::move(dataset));
+  auto s = createTrainSession(ctx, c, loadRunDataset(c));
   if (!ckpt.empty()) loadCheckpoint(*s, ckpt);
   return s;
 }

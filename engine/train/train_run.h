@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/model/open_model.h"
 #include "engine/train/train_config.h"
 #include "engine/train/train_session.h"
 
@@ -20,10 +21,6 @@ struct Context;
 // else derived from the cameras: engine/dataset/scene_bounds.h) and resolves the schedule.
 // refrax::Error when the water height is unknown.
 void resolveSceneConfig(TrainConfig& config, const Dataset& dataset);
-
-// The height grid written as water_height.npy: (ny, nx) heights over the domain, rows along y
-// (the ground-truth layout of engine/dataset/ground_truth.h).
-std::vector<double> sampleWaterHeights(TrainSession& session, uint32_t nx, uint32_t ny);
 
 struct TrainProgress {
   std::function<void(const std::string&)> line;  // progress lines (stderr in the CLI)
@@ -45,9 +42,9 @@ nlohmann::json readEvaluations(const std::string& runDir, int upToStep);
 // run's evaluations (above) followed by the final one, the accuracy-against-time curve.
 nlohmann::json writeRunOutputs(TrainSession& session, const std::string& runDir);
 
-// config.json of a run, and its session restored from the newest checkpoint (with the
-// dataset of the config, or `datasetOverride` when given).
-TrainConfig readRunConfig(const std::string& runDir);
+// A run's training session restored from its newest checkpoint, to train on (resume) or
+// differentiate (gradcheck); what only draws or measures the model opens it with openModel
+// (engine/model/open_model.h, which also reads config.json: readRunConfig).
 std::unique_ptr<TrainSession> openRun(Context& ctx, const std::string& runDir, bool requireCheckpoint = true);
 
 }  // namespace refrax

@@ -28,14 +28,11 @@ constexpr int kProxyReorderInterval = 100;
 double logitOf(double p) { return std::log(p / (1.0 - p)); }
 double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
 
-void allocateRayBuffers(TrainSession& s, uint32_t n) {
+// The batch's buffers for up to n rays (the model's own: growModelRayCapacity).
+void allocateBatchBuffers(TrainSession& s, uint32_t n) {
   Context& ctx = *s.ctx;
-  s.capacity = n;
+  s.batchCapacity = n;
   s.pixels = createBuffer(ctx, size_t(n) * 4);
-  s.rays = createBuffer(ctx, size_t(n) * sizeof(GpuRay));
-  s.refracted = createBuffer(ctx, size_t(n) * sizeof(GpuRay));
-  s.records = createBuffer(ctx, size_t(n) * 32);
-  s.results = createBuffer(ctx, size_t(n) * sizeof(GpuTraceResult));
   s.rendered = createBuffer(ctx, size_t(n) * 12);
   s.target = createBuffer(ctx, size_t(n) * 12);
   s.pixelWeights = createBuffer(ctx, size_t(n) * 4);
@@ -52,20 +49,6 @@ LearningRateSchedule surfaceLearningRate(const TrainConfig& c) {
   lr.final *= scale;
   lr.steps = c.schedule.lrSteps;
   return lr;
-}
-
-void allocateGaussianBuffers(TrainSession& s) {
-  size_t n = std::max<size_t>(1, s.gaussians.count());
-  s.grads = createBuffer(*s.ctx, n * kGaussianFloats * 4);
-  s.stats = createBuffer(*s.ctx, n * 2 * 4);
-  s.densityPartials = createBuffer(*s.ctx, size_t(densityPartialCount(uint32_t(n))) * 8);
-  if (!s.densityResult) s.densityResult = createBuffer(*s.ctx, 16);
-}
-
-void createSurface(TrainSession& s) {
-  s.surface.emplace(createWaterSurface(*s.ctx, surfaceConfigFor(s)));
-  HeightSource src = currentHeightSource(s);
-  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, src); });
 }
 
 void shuffleViews(TrainSession& s) {
@@ -90,27 +73,25 @@ double batchPsnr(const std::vector<float>& a, const std::vector<float>& b, const
 
 }  // namespace
 
-uint32_t shDegreeAt(const TrainConfig& c, int step) {
-  return std::min<uint32_t>(c.maxShDegree, uint32_t(std::max(0, step - 1) / c.schedule.shDegreeInterval));
-}
-
-HeightSource currentHeightSource(const TrainSession& s) {
-  if (s.height) return heightSource(*s.height);
-  return heightSource(s.plane);
+void allocateGaussianBuffers(TrainSession& s) {
+  size_t n = std::max<size_t>(1, s.gaussians.count());
+  s.grads = createBuffer(*s.ctx, n * kGaussianFloats * 4);
+  s.stats = createBuffer(*s.ctx, n * 2 * 4);
+  s.densityPartials = createBuffer(*s.ctx, size_t(densityPartialCount(uint32_t(n))) * 8);
+  if (!s.densityResult) s.densityResult = createBuffer(*s.ctx, 16);
 }
 
 void ensureRayCapacity(TrainSession& s, uint32_t n) {
-  if (n <= s.capacity) return;
-  pushWaterGradient(s);  // the surface is created anew
-  allocateRayBuffers(s, n);
-  if (s.surface) createSurface(s);
+  if (n <= s.capacity && n <= s.batchCapacity) return;
+  pushWaterGradient(s);  // a larger model capacity creates the surface anew
+  growModelRayCapacity(s, n);
+  if (n > s.batchCapacity) allocateBatchBuffers(s, n);
 }
 
 void syncGaussians(TrainSession& s, bool countChanged) {
   validateGaussians(s.gaussians, "training");
   if (countChanged) {
-    s.device = uploadGaussians(*s.ctx, s.gaussians);
-    s.proxies = buildGaussianProxies(*s.ctx, s.tracer, s.device, s.gaussians, s.proxyKind, true);
+    uploadModelGaussians(s);
     allocateGaussianBuffers(s);
     return;
   }
@@ -185,13 +166,10 @@ void drawGaussians(TrainSession& s) {
 std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig& config, Dataset dataset) {
   validateTrainConfig(config);
   auto s = std::make_unique<TrainSession>();
-  s->ctx = &ctx;
-  s->config = config;
+  // The model: tracer, ray buffers, the water in its initial state lifted into the surface.
+  initModel(*s, ctx, config, dataset);
   s->dataset = std::move(dataset);
   s->rng.seed(uint32_t(config.seed * 2654435761u + 17u));
-
-  s->tracer = createGaussianTracer(ctx, config.kBuffer);
-  s->proxyKind = proxyKindFor(config.proxy, ctx.caps);
   DensifyConfig& dc = s->densifyConfig;
   const ScheduleSteps& k = config.schedule;
   // 3DGS measures "large" against the cameras' spread; cameras close together over a wide
@@ -211,58 +189,30 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   dc.maxGaussians = config.maxGaussians;
   validateDensifyConfig(dc);
 
-  uint32_t most = 1;
-  for (const auto& [name, views] : s->dataset.splits)
-    for (const auto& v : views) most = std::max(most, uint32_t(v.camera.width * v.camera.height));
-  allocateRayBuffers(*s, most);
-  s->rayPipelines = createCameraRayPipelines(ctx);
+  allocateBatchBuffers(*s, s->capacity);
   s->lossPipelines = createLossPipelines(ctx);
   s->copyPipeline = createStridedCopyPipeline(ctx);
   s->lossResult = createBuffer(ctx, 16);
   s->adamPipelines = createAdamPipelines(ctx);
-
-  if (config.model == WaterModel::Refraction) {
-    HeightFieldConfig hc;
-    hc.octaves = config.mlpOctaves;
-    hc.width = config.mlpWidth;
-    hc.hiddenLayers = config.mlpHiddenLayers;
-    hc.initialHeight = float(config.waterHeight);
-    hc.lastLayerInitRange = float(config.mlpInitRange);
-    hc.domainMin[0] = float(config.domain.xMin);
-    hc.domainMin[1] = float(config.domain.yMin);
-    hc.domainMax[0] = float(config.domain.xMax);
-    hc.domainMax[1] = float(config.domain.yMax);
-    hc.encodingWindow = encodingWindowAt(config, 0);
-    s->height.emplace(createHeightField(ctx, hc, uint32_t(config.seed * 7919u + 3u)));
+  if (s->height) {
     // Lavapipe builds a pipeline at its first dispatch (a second or more for the MLP's
     // backward, even from Mesa's disk cache): here, not inside the first surface step.
     warmUpHeightField(*s->height);
-    LearningRateSchedule lr = surfaceLearningRate(config);
-    s->heightAdam = createAdamGroup(ctx, "height_mlp", lr, 1, uint32_t(s->height->parameterCount));
+    s->heightAdam = createAdamGroup(ctx, "height_mlp", surfaceLearningRate(config), 1, uint32_t(s->height->parameterCount));
     s->heightGrad = createBuffer(ctx, s->height->parameterCount * 4);
     fillBuffer(ctx, s->heightGrad, 0);
   }
   if (config.model == WaterModel::FlatWater) {
-    s->planeHeight = config.waterHeight;
     AdamColumns height;
     height.name = "water_height";
     height.width = 1;
     height.lr = surfaceLearningRate(config);
     s->planeAdam = createTableAdam(1, {height}, 1);
-    AnalyticWaves w;
-    w.base = float(s->planeHeight);
-    s->plane = createAnalyticHeightField(ctx, w);
   }
-  if (config.model == WaterModel::KnownWater) {
-    s->plane = createAnalyticHeightField(ctx, loadGroundTruthWaves(s->dataset));
-    s->planeHeight = s->plane.waves.base;  // what a checkpoint stores and restores as the base
-  }
-  if (config.model != WaterModel::NoRefraction) createSurface(*s);
   // After the water: the plane sweep (--init-depth sweep) looks through it. Nothing above
   // draws from s->rng, so the box's draw is what it was before the sweep existed.
   drawGaussians(*s);
-  s->device = uploadGaussians(ctx, s->gaussians);
-  s->proxies = buildGaussianProxies(ctx, s->tracer, s->device, s->gaussians, s->proxyKind, true);
+  uploadModelGaussians(*s);
   allocateGaussianBuffers(*s);
   shuffleViews(*s);
   return s;
@@ -290,39 +240,12 @@ void planeAdamStep(TrainSession& s, double grad) {
   s.plane.waves.base = height[0];
 }
 
-// Per coarse grid slot ((cellsX + 3) x (cellsY + 3), border ring included at weight 0): how
-// many training views see the interior vertex at the flat water height.
-std::vector<double> trainingViewWeights(const TrainSession& s) {
-  const WaterSurface& ws = *s.surface;
-  const Rect& d = s.config.domain;
-  const uint32_t rowLength = ws.cellsX + 3;
-  std::vector<double> w(ws.gridPointCount, 0.0);
-  for (uint32_t j = 0; j <= ws.cellsY; j++)
-    for (uint32_t i = 0; i <= ws.cellsX; i++) {
-      glm::dvec3 p(d.xMin + (d.xMax - d.xMin) * i / ws.cellsX, d.yMin + (d.yMax - d.yMin) * j / ws.cellsY, s.config.waterHeight);
-      for (const View& v : s.dataset.split("train"))
-        if (v.camera.sees(p)) w[size_t(j + 1) * rowLength + i + 1] += 1.0;
-    }
-  return w;
-}
-
 }  // namespace
 
 void anchorMeanHeight(TrainSession& s) {
   if (!s.config.anchorMeanHeight || !s.height || !s.surface) return;
-  WaterSurface& ws = *s.surface;
-  if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = trainingViewWeights(s);
-  std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
-  double sum = 0, weight = 0;
-  for (size_t k = 0; k < heights.size(); k++)
-    if (s.anchorWeights[k] > 0 && std::isfinite(heights[k])) {
-      sum += s.anchorWeights[k] * heights[k];
-      weight += s.anchorWeights[k];
-    }
-  if (weight == 0) return;
-  double shift = s.config.waterHeight - sum / weight;
-  s.height->config.initialHeight = float(double(s.height->config.initialHeight) + shift);
-  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, *s.height); });
+  if (s.anchorWeights.size() != s.surface->gridPointCount) s.anchorWeights = viewWeights(s, s.dataset.split("train"));
+  anchorMeanHeight(static_cast<Model&>(s), s.anchorWeights);
 }
 
 namespace {
@@ -344,7 +267,7 @@ void computeSurfacePrior(TrainSession& s) {
   s.priorEnergy = 0;
   if (s.config.surfaceSmoothness > 0) s.priorEnergy += slopePrior(heights, g, s.config.surfaceSmoothness, &s.priorGrad);
   if (s.config.levelPrior > 0) {
-    if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = trainingViewWeights(s);
+    if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = viewWeights(s, s.dataset.split("train"));
     s.priorEnergy += levelPrior(heights, g, s.anchorWeights, s.config.levelPrior, &s.priorGrad);
   }
   s.priorHeightsVersion = ws.heightsVersion;
@@ -379,9 +302,7 @@ void applyDensitySchedule(TrainSession& s, int t) {
 
 }  // namespace
 
-int surfaceBatchSteps(const TrainSession& s) {
-  return s.config.surfaceBatch > 0 ? s.config.surfaceBatch : int(s.dataset.split("train").size());
-}
+int surfaceBatchSteps(const TrainSession& s) { return surfaceBatchSteps(s.config, s.dataset.split("train").size()); }
 
 StepBatch nextStepBatch(TrainSession& s) {
   const auto& trainViews = s.dataset.split("train");
@@ -509,7 +430,7 @@ bool surfaceStepAt(const TrainSession& s, int t) {
 // with every ray missing it and ends as a normal run.
 void requireSurfaceInScene(TrainSession& s, int t) {
   WaterSurface& ws = *s.surface;
-  if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = trainingViewWeights(s);
+  if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = viewWeights(s, s.dataset.split("train"));
   const std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
   double low = INFINITY, high = -INFINITY;
   bool finite = true;
@@ -559,8 +480,7 @@ void surfaceStep(TrainSession& s, int t) {
   } else {
     planeAdamStep(s, s.planeGrad);
     s.planeGrad = 0;
-    HeightSource source = currentHeightSource(s);
-    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, source); });
+    liftSurface(s);
   }
   HostStage h(ctx, "water divergence check (host)");
   requireSurfaceInScene(s, t);
@@ -672,16 +592,6 @@ StepResult trainStep(TrainSession& s) {
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");
   s.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
-}
-
-WaterSurfaceConfig surfaceConfigFor(const TrainSession& s) {
-  WaterSurfaceConfig wc;
-  wc.domain = SurfaceDomain{float(s.config.domain.xMin), float(s.config.domain.yMin), float(s.config.domain.xMax), float(s.config.domain.yMax)};
-  wc.gridCells = s.config.gridCells;
-  wc.subdivisionLevels = s.config.subdivisionLevels;
-  wc.ior = float(s.config.ior);
-  wc.maxRays = s.capacity;
-  return wc;
 }
 
 }  // namespace refrax

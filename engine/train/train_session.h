@@ -34,6 +34,7 @@
 #include "engine/train/train_config.h"
 #include "engine/vk/vk_profile.h"
 #include "engine/surface/water_surface.h"
+#include "engine/model/model.h"
 
 namespace refrax {
 
@@ -48,48 +49,35 @@ struct StepResult {
   bool restarted = false; // the Gaussians were drawn afresh after this step (--restart-gaussians)
 };
 
-struct TrainSession {
-  TrainSession() = default;
-  TrainSession(const TrainSession&) = delete;
-  TrainSession& operator=(const TrainSession&) = delete;
-
-  Context* ctx = nullptr;
-  TrainConfig config;
+// A model in training: the model (engine/model/model.h: Gaussians, water, ray buffers) with
+// the dataset, the optimisers, the loss and the batch's buffers.
+struct TrainSession : Model {
   Dataset dataset;
 
-  // Gaussians: the host table (Adam runs here), its device copy, the tracer and its proxies.
-  GaussianSet gaussians;
-  DeviceGaussians device;
+  // The Gaussians' optimiser (host table).
   TableAdam gaussianAdam;
-  GaussianTracer tracer;
-  ProxyKind proxyKind = ProxyKind::AabbBlas;
-  GaussianProxies proxies;
 
-  // The water: the MLP height field (refraction) or a plane of one learned height (flat water).
-  std::optional<HeightField> height;
+  // The water's optimiser: the MLP's device Adam, or the plane's height as a table of one row
+  // and one column.
   AdamPipelines adamPipelines;
   AdamGroup heightAdam;
   Buffer heightGrad;
+  TableAdam planeAdam;
+  double planeGrad = 0;  // dL/d(plane height) summed since the last plane step (--surface-batch), pushed part
   // The priors (--surface-smoothness, --level-prior) of the current heights: dE/dheight at the
   // coarse grid's vertices (surface_prior.h) and E; fresh until the surface is lifted again.
   std::vector<float> priorGrad;
   double priorEnergy = 0;
   uint64_t priorHeightsVersion = 0;  // the surface's heightsVersion they were computed at
-  AnalyticHeightField plane;  // waves zero, base = planeHeight
-  double planeHeight = 0;
-  TableAdam planeAdam;   // the plane's height: a table of one row and one column
-  double planeGrad = 0;  // dL/d(plane height) summed since the last plane step (--surface-batch), pushed part
-  std::optional<WaterSurface> surface;
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
   size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
 
-  // Per-step buffers for up to `capacity` rays.
-  uint32_t capacity = 0;
-  CameraRayPipelines rayPipelines;
+  // Per-step buffers for up to `batchCapacity` rays (the model's own ray buffers: Model::capacity).
+  uint32_t batchCapacity = 0;
   LossPipelines lossPipelines;
   ComputePipeline copyPipeline;  // layouts handed between stages (engine/vk/strided_copy.h)
   ImageLossScratch lossScratch;
-  Buffer pixels, rays, refracted, records, results, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
+  Buffer pixels, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
   Buffer pixelWeights;    // the batch's mask (1: the pixel counts), for masked views
   Buffer densityPartials, densityResult;  // the density regulariser's partial sums and value (engine/loss/image_loss.h)
   HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
@@ -97,9 +85,8 @@ struct TrainSession {
   // Densification (engine/gaussian/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
   // accumulated since the last clone/split, and the schedule derived from config.schedule.
   std::vector<float> densifyStats;
-  // --anchor-mean-height and --level-prior: each coarse grid slot's weight in the anchored
-  // mean and the level fit (computed on first use from the training cameras; see
-  // anchorMeanHeight).
+  // --anchor-mean-height, --level-prior and the divergence check: each coarse grid slot's
+  // weight (viewWeights over the training views, computed on first use).
   std::vector<double> anchorWeights;
   DensifyConfig densifyConfig;
   DensifyStats lastDensify;
@@ -107,16 +94,11 @@ struct TrainSession {
   std::mt19937 rng;
   std::vector<uint32_t> viewOrder;  // a shuffled pass over the training views
   uint32_t viewCursor = 0;
-  int step = 0;                     // steps taken
-  double trainingSeconds = 0;       // wall time spent in steps (carried across resumes)
   GpuProfiler profiler;             // the steps of this process, stage by stage (engine/vk/vk_profile.h)
 };
 
 // Loads nothing: `dataset` and `config` (resolved) are given. Initialises the Gaussians,
 // the height field and the surface from config.seed.
-// The proxy-surface configuration of this session (domain, grid, levels, IOR, ray capacity).
-WaterSurfaceConfig surfaceConfigFor(const TrainSession& s);
-
 std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig& config, Dataset dataset);
 
 // Steps per surface Adam step: config.surfaceBatch, or with 0 (--surface-batch views) the
@@ -164,25 +146,18 @@ BatchForward forwardBatch(TrainSession& session, const StepBatch& batch, const T
 void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& session, const StepBatch& batch, const TraceOptions& options,
                       bool surfaceLearns);
 
-// SH degree and face-normal switch in force at step t (1-based), from the schedule.
-uint32_t shDegreeAt(const TrainConfig& config, int step);
-
 // After the host table changed (Adam, decay, reset, densification): upload it and refresh
 // the proxies (same count: rebuild in place; new count: new proxies).
 void syncGaussians(TrainSession& session, bool countChanged);
 
-// Makes room for `rays` rays per pass (renders larger than a training batch).
+// Gradient and statistics buffers for the current Gaussian count.
+void allocateGaussianBuffers(TrainSession& session);
+
+// Makes room for `rays` rays per pass, in the model's and the batch's buffers (a whole image
+// for the plane sweep); the surface's pending gradient is pushed first.
 void ensureRayCapacity(TrainSession& session, uint32_t rays);
 
-// The height source the surface is lifted from (MLP or plane).
-HeightSource currentHeightSource(const TrainSession& session);
-// With config.anchorMeanHeight: sets the height field's constant so that the mean height the
-// training views see is config.waterHeight, and lifts the surface again. The mean is over the
-// coarse grid's interior vertices, each weighted by how many training views see it (on the
-// flat plane): water every view sees counts most, a corner one camera sees counts little,
-// unseen water not at all (an unweighted mean let the border carry the shift the seen centre
-// needed: on the strong-wave tiny preset the centre sat 2-6 cm low).
-// A function of the weights alone, so a resumed run recomputes the same constant.
+// anchorMeanHeight (engine/model/model.h) over the training views.
 void anchorMeanHeight(TrainSession& session);
 
 }  // namespace refrax

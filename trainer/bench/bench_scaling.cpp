@@ -19,7 +19,7 @@
 #include "engine/dataset/dataset.h"
 #include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
-#include "engine/train/render_run.h"
+#include "engine/model/render_model.h"
 #include "engine/train/train_run.h"
 #include "engine/train/train_session.h"
 #include "engine/vk/vk_context.h"

@@ -17,7 +17,8 @@
 #include "engine/io/image_io.h"
 #include "engine/surface/mesh_surface.h"
 #include "engine/loss/metrics.h"
-#include "engine/train/train_session.h"
+#include "engine/dataset/dataset.h"
+#include "engine/model/model.h"
 
 namespace refrax {
 
@@ -31,7 +32,7 @@ struct RenderedView {
 };
 
 // The surface WaterView::Swap puts in the water's place: exactly one of the two. A closed-form
-// surface is lifted into the session's proxy-surface configuration (its own surface is built
+// surface is lifted into the model's proxy-surface configuration (its own surface is built
 // for the call); a mesh is traced as it is (closest hit, its interpolated vertex normals).
 struct SwapSurface {
   const AnalyticHeightField* analytic = nullptr;
@@ -39,17 +40,17 @@ struct SwapSurface {
 };
 
 // `swap` is used for WaterView::Swap only.
-RenderedView renderView(TrainSession& session, const Camera& camera, WaterView water, const SwapSurface& swap);
-inline RenderedView renderView(TrainSession& session, const Camera& camera, WaterView water, const AnalyticHeightField* swap = nullptr) {
-  return renderView(session, camera, water, SwapSurface{swap, nullptr});
+RenderedView renderView(Model& model, const Camera& camera, WaterView water, const SwapSurface& swap);
+inline RenderedView renderView(Model& model, const Camera& camera, WaterView water, const AnalyticHeightField* swap = nullptr) {
+  return renderView(model, camera, water, SwapSurface{swap, nullptr});
 }
 
 // A look-at camera: position, target, world up +z, vertical field of view (radians).
 Camera lookAtCamera(const glm::dvec3& position, const glm::dvec3& target, int width, int height, double fovY);
 
-// Metrics of the session's model on `dataset` (its test split; its ground-truth surface and
+// Metrics of the model on `dataset` (its test split; its ground-truth surface and
 // air split when present); when rendersDir is not empty, writes test_NNN.png and
 // test_NNN_air.png there.
-nlohmann::json evaluateSession(TrainSession& session, const Dataset& dataset, const std::string& rendersDir);
+nlohmann::json evaluateModel(Model& model, const Dataset& dataset, const std::string& rendersDir);
 
 }  // namespace refrax

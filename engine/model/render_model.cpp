@@ -1,4 +1,4 @@
-#include "engine/train/render_run.h"
+#include "engine/model/render_model.h"
 
 #include <cmath>
 #include <filesystem>
@@ -35,9 +35,9 @@ Camera lookAtCamera(const glm::dvec3& position, const glm::dvec3& target, int wi
 namespace {
 
 // The hits' points on the surface and, for the same pixels, on the initial flat water plane.
-void collectSurfacePoints(const TrainSession& s, const std::vector<GpuRay>& rays, const std::vector<GpuRay>& refracted,
+void collectSurfacePoints(const Model& m, const std::vector<GpuRay>& rays, const std::vector<GpuRay>& refracted,
                           const std::vector<uint32_t>& flags, RenderedView& out) {
-  double h = s.config.waterHeight;
+  double h = m.config.waterHeight;
   for (size_t i = 0; i < rays.size(); i++) {
     if (!(flags[i] & kSurfaceHit)) continue;
     out.surfacePoints.emplace_back(refracted[i].origin[0], refracted[i].origin[1], refracted[i].origin[2]);
@@ -49,49 +49,49 @@ void collectSurfacePoints(const TrainSession& s, const std::vector<GpuRay>& rays
 
 }  // namespace
 
-RenderedView renderView(TrainSession& s, const Camera& camera, WaterView water, const SwapSurface& swap) {
-  Context& ctx = *s.ctx;
+RenderedView renderView(Model& m, const Camera& camera, WaterView water, const SwapSurface& swap) {
+  Context& ctx = *m.ctx;
   uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
   if (water == WaterView::Swap && (swap.analytic != nullptr) == (swap.mesh != nullptr))
     fail(swap.analytic ? "render: two surfaces to swap in (a closed-form one and a mesh)" : "render: no surface to swap in");
-  ensureRayCapacity(s, n);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.rayPipelines, camera, s.rays, 0.0f, 1e6f); });
+  growModelRayCapacity(m, n);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, m.rayPipelines, camera, m.rays, 0.0f, 1e6f); });
   RenderedView out;
-  const Buffer* traced = &s.rays;
+  const Buffer* traced = &m.rays;
   std::optional<WaterSurface> swapped;
   WaterSurface* surface = nullptr;
   HeightSource source;
-  if (water == WaterView::Keep && s.surface) {
-    surface = &*s.surface;
-    surface->config.faceNormals = s.step <= s.config.schedule.faceNormalsUntil;
-    source = currentHeightSource(s);
+  if (water == WaterView::Keep && m.surface) {
+    surface = &*m.surface;
+    surface->config.faceNormals = m.step <= m.config.schedule.faceNormalsUntil;
+    source = currentHeightSource(m);
   } else if (water == WaterView::Swap && swap.analytic) {
-    swapped.emplace(createWaterSurface(ctx, surfaceConfigFor(s)));
+    swapped.emplace(createWaterSurface(ctx, surfaceConfigFor(m)));
     surface = &*swapped;
     source = heightSource(*swap.analytic);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *surface, source); });
   } else if (water == WaterView::Swap) {
     // The mesh's flags (one uint per ray) go into the records buffer (room for n SurfaceRecords).
-    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdRefractThroughMesh(cb, *swap.mesh, s.rays, n, surfaceConfigFor(s).ior, s.refracted, s.records); });
-    traced = &s.refracted;
-    auto flags = downloadVector<uint32_t>(ctx, s.records, n);
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdRefractThroughMesh(cb, *swap.mesh, m.rays, n, surfaceConfigFor(m).ior, m.refracted, m.records); });
+    traced = &m.refracted;
+    auto flags = downloadVector<uint32_t>(ctx, m.records, n);
     for (uint32_t f : flags) out.missed += (f & kSurfaceMissed) != 0;
-    collectSurfacePoints(s, downloadVector<GpuRay>(ctx, s.rays, n), downloadVector<GpuRay>(ctx, s.refracted, n), flags, out);
+    collectSurfacePoints(m, downloadVector<GpuRay>(ctx, m.rays, n), downloadVector<GpuRay>(ctx, m.refracted, n), flags, out);
   }
   if (surface) {
-    traceSurface(ctx, *surface, source, s.rays, n, s.refracted, s.records);
-    traced = &s.refracted;
+    traceSurface(ctx, *surface, source, m.rays, n, m.refracted, m.records);
+    traced = &m.refracted;
     out.missed = surface->lastCounters.missed;
-    auto records = downloadVector<SurfaceRecord>(ctx, s.records, n);
+    auto records = downloadVector<SurfaceRecord>(ctx, m.records, n);
     std::vector<uint32_t> flags(n);
     for (uint32_t i = 0; i < n; i++) flags[i] = records[i].flags();
-    collectSurfacePoints(s, downloadVector<GpuRay>(ctx, s.rays, n), downloadVector<GpuRay>(ctx, s.refracted, n), flags, out);
+    collectSurfacePoints(m, downloadVector<GpuRay>(ctx, m.rays, n), downloadVector<GpuRay>(ctx, m.refracted, n), flags, out);
   }
   TraceOptions opt;
-  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(s.config.datasetOptions.background[ch]);
-  opt.shDegree = shDegreeAt(s.config, std::max(1, s.step));
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, s.tracer, s.proxies, s.device, *traced, s.results, n, opt); });
-  auto results = downloadVector<GpuTraceResult>(ctx, s.results, n);
+  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(m.config.datasetOptions.background[ch]);
+  opt.shDegree = shDegreeAt(m.config, std::max(1, m.step));
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, m.tracer, m.proxies, m.device, *traced, m.results, n, opt); });
+  auto results = downloadVector<GpuTraceResult>(ctx, m.results, n);
   out.image.width = camera.width;
   out.image.height = camera.height;
   out.image.channels = 3;
@@ -112,7 +112,7 @@ std::string indexed(const std::string& dir, size_t i, const char* suffix) {
 
 }  // namespace
 
-nlohmann::json evaluateSession(TrainSession& s, const Dataset& data, const std::string& rendersDir) {
+nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& rendersDir) {
   const auto& test = data.split("test");
   std::optional<HeightGrid> truth = loadGroundTruthSurface(data);
   nlohmann::json views = nlohmann::json::array();
@@ -120,7 +120,7 @@ nlohmann::json evaluateSession(TrainSession& s, const Dataset& data, const std::
   std::vector<glm::dvec3> points, planePoints;
   uint32_t missed = 0;
   for (size_t i = 0; i < test.size(); i++) {
-    RenderedView r = renderView(s, test[i].camera, WaterView::Keep);
+    RenderedView r = renderView(m, test[i].camera, WaterView::Keep);
     double p = psnr(r.image, test[i].image, test[i].mask), q = ssim(r.image, test[i].image, test[i].mask);  // the pixels that count
     psnrSum += p;
     ssimSum += q;
@@ -130,24 +130,24 @@ nlohmann::json evaluateSession(TrainSession& s, const Dataset& data, const std::
     views.push_back({{"name", test[i].name}, {"psnr", p}, {"ssim", q}});
     if (!rendersDir.empty()) {
       writePng(indexed(rendersDir, i, ""), r.image);
-      writePng(indexed(rendersDir, i, "_air"), renderView(s, test[i].camera, WaterView::Remove).image);
+      writePng(indexed(rendersDir, i, "_air"), renderView(m, test[i].camera, WaterView::Remove).image);
     }
   }
-  nlohmann::json m;
-  m["model"] = waterModelName(s.config.model);
-  m["step"] = s.step;
-  m["test_views"] = views;
-  m["psnr"] = psnrSum / double(test.size());
-  m["ssim"] = ssimSum / double(test.size());
-  m["missed_rays"] = missed;
+  nlohmann::json metrics;
+  metrics["model"] = waterModelName(m.config.model);
+  metrics["step"] = m.step;
+  metrics["test_views"] = views;
+  metrics["psnr"] = psnrSum / double(test.size());
+  metrics["ssim"] = ssimSum / double(test.size());
+  metrics["missed_rays"] = missed;
   if (truth && !points.empty()) {
-    m["surface_rmse"] = surfaceRmse(*truth, points);
-    m["surface_points"] = points.size();
-    m["initial_flat_surface_rmse"] = surfaceRmse(*truth, planePoints);
-  } else if (truth && s.surface) {
+    metrics["surface_rmse"] = surfaceRmse(*truth, points);
+    metrics["surface_points"] = points.size();
+    metrics["initial_flat_surface_rmse"] = surfaceRmse(*truth, planePoints);
+  } else if (truth && m.surface) {
     // Measured where the test rays meet the water: none did, so there is no error to give.
-    m["surface_rmse_missing"] = "no test ray met the water surface inside its domain (" + std::to_string(missed) + " missed it)";
-  } else if (truth && s.config.model == WaterModel::NoRefraction) {
+    metrics["surface_rmse_missing"] = "no test ray met the water surface inside its domain (" + std::to_string(missed) + " missed it)";
+  } else if (truth && m.config.model == WaterModel::NoRefraction) {
     // No surface is modelled: its surface is the initial flat plane (reported for comparison).
     std::vector<glm::dvec3> plane;
     for (const auto& v : test) {
@@ -155,26 +155,26 @@ nlohmann::json evaluateSession(TrainSession& s, const Dataset& data, const std::
       for (int y = 0; y < c.height; y++)
         for (int x = 0; x < c.width; x++) {
           glm::dvec3 d = glm::normalize(c.right() * ((x + 0.5 - c.cx) / c.fx) - c.up() * ((y + 0.5 - c.cy) / c.fy) - c.back());
-          double t = (s.config.waterHeight - c.position().z) / d.z;
+          double t = (m.config.waterHeight - c.position().z) / d.z;
           glm::dvec3 q = c.position() + t * d;
-          if (t > 0 && q.x >= s.config.domain.xMin && q.x <= s.config.domain.xMax && q.y >= s.config.domain.yMin && q.y <= s.config.domain.yMax)
+          if (t > 0 && q.x >= m.config.domain.xMin && q.x <= m.config.domain.xMax && q.y >= m.config.domain.yMin && q.y <= m.config.domain.yMax)
             plane.push_back(q);
         }
     }
-    m["initial_flat_surface_rmse"] = surfaceRmse(*truth, plane);
+    metrics["initial_flat_surface_rmse"] = surfaceRmse(*truth, plane);
   }
   if (data.splits.count("air")) {
     const auto& air = data.split("air");
     double sum = 0;
-    for (const auto& v : air) sum += psnr(renderView(s, v.camera, WaterView::Remove).image, v.image);
-    m["water_removal_psnr"] = sum / double(air.size());
+    for (const auto& v : air) sum += psnr(renderView(m, v.camera, WaterView::Remove).image, v.image);
+    metrics["water_removal_psnr"] = sum / double(air.size());
   }
-  m["gaussians"] = s.gaussians.count();
-  uint64_t bytes = uint64_t(s.gaussians.params.size()) * 4 + (s.height ? s.height->parameterCount * 4 : 0) +
-                   (s.config.model == WaterModel::FlatWater ? 4 : 0);
-  m["model_bytes"] = bytes;
-  m["training_seconds"] = s.trainingSeconds;
-  return m;
+  metrics["gaussians"] = m.gaussians.count();
+  uint64_t bytes = uint64_t(m.gaussians.params.size()) * 4 + (m.height ? m.height->parameterCount * 4 : 0) +
+                   (m.config.model == WaterModel::FlatWater ? 4 : 0);
+  metrics["model_bytes"] = bytes;
+  metrics["training_seconds"] = m.trainingSeconds;
+  return metrics;
 }
 
 }  // namespace refrax
