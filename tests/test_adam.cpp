@@ -1,5 +1,5 @@
-// Adam on the device against the double reference over several steps, the learning-rate
-// schedules, and the row remapping densification needs.
+// Adam on the device against the double reference over several steps, and the learning-rate
+// schedules.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -78,52 +78,4 @@ GPU_TEST_CASE("Adam on the device matches the double reference over several step
   Buffer small = createBuffer(ctx, (offset + rows * width - 1) * 4);
   CHECK_THROWS_AS(submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdAdamStep(cb, pipes, group, small, gb, offset); }), Error);
   CHECK(group.step == 6);
-}
-
-GPU_TEST_CASE("remapping Adam rows carries moments along, zeroes new rows, refuses bad rows") {
-  AdamPipelines pipes = createAdamPipelines(ctx);
-  const uint32_t rows = 300, width = 4;
-  std::normal_distribution<float> N(0.0f, 1.0f);
-  AdamGroup group = createAdamGroup(ctx, "rotation", {1e-3, 1e-3, 1}, width, rows);
-  std::vector<float> m(rows * width), v(rows * width);
-  for (auto& x : m) x = N(rng);
-  for (auto& x : v) x = std::abs(N(rng));
-  upload(ctx, group.m, m.data(), m.size() * 4);
-  upload(ctx, group.v, v.data(), v.size() * 4);
-  group.step = 7;
-  // prune every third row, clone some, split one into two new rows
-  std::vector<uint32_t> source;
-  for (uint32_t r = 0; r < rows; r++)
-    if (r % 3) source.push_back(r);
-  source.push_back(5);
-  source.push_back(kNewRow);
-  source.push_back(kNewRow);
-  std::shuffle(source.begin(), source.end(), rng);
-  remapAdamRows(ctx, pipes, group, source);
-  CHECK(group.rows == source.size());
-  CHECK(group.step == 7);  // torch keeps a tensor's step count across 3DGS's replacements
-  auto mBack = downloadVector<float>(ctx, group.m, source.size() * width);
-  auto vBack = downloadVector<float>(ctx, group.v, source.size() * width);
-  size_t bad = 0;
-  for (size_t i = 0; i < source.size(); i++)
-    for (uint32_t k = 0; k < width; k++) {
-      float em = source[i] == kNewRow ? 0.0f : m[source[i] * width + k];
-      float ev = source[i] == kNewRow ? 0.0f : v[source[i] * width + k];
-      if (mBack[i * width + k] != em || vBack[i * width + k] != ev) bad++;
-    }
-  CHECK(bad == 0);
-  // the gather itself, into a NaN-poisoned table (a skipped row would stay NaN)
-  Buffer src = createBufferFrom(ctx, m), dst = createBuffer(ctx, source.size() * width * 4), rowsBuf = createBufferFrom(ctx, source);
-  fillBuffer(ctx, dst, 0x7FC00000u);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdGatherRows(cb, pipes, src, dst, rowsBuf, uint32_t(source.size()), width); });
-  auto gathered = downloadVector<float>(ctx, dst, source.size() * width);
-  size_t badGather = 0;
-  for (size_t i = 0; i < source.size(); i++)
-    for (uint32_t k = 0; k < width; k++)
-      if (!(gathered[i * width + k] == (source[i] == kNewRow ? 0.0f : m[source[i] * width + k]))) badGather++;
-  CHECK(badGather == 0);
-  CHECK_THROWS_AS(remapAdamRows(ctx, pipes, group, {0, uint32_t(source.size())}), Error);
-  CHECK(group.rows == source.size());  // unchanged after the refusal
-  remapAdamRows(ctx, pipes, group, {});
-  CHECK(group.rows == 0);
 }

@@ -1,8 +1,10 @@
 // The host Adam for tables (engine/optim/table_adam.h), on the Gaussians' table, against the double
 // reference (engine/reference/adam_ref.h): every column group with its own learning rate and
-// bias correction, a group reset midway, non-finite gradients taken as zero.
+// bias correction, a group reset midway, non-finite gradients taken as zero; and the row
+// remapping densification needs.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -11,6 +13,7 @@
 #include "engine/reference/adam_ref.h"
 #include "engine/gaussian/gaussians.h"
 #include "engine/optim/table_adam.h"
+#include "tests/gpu_test.h"
 
 using namespace refrax;
 
@@ -101,4 +104,41 @@ TEST_CASE("Table Adam: the flat water's one height (one row, one column) follows
   outside.first = 1;
   outside.width = 1;
   CHECK_THROWS_AS(createTableAdam(1, {outside}, 1), Error);
+}
+
+TEST_CASE("Table Adam: remapping rows carries moments along, zeroes new rows, refuses bad rows") {
+  std::mt19937 rng(test::freshSeed());
+  const size_t rows = 300;
+  TableAdam adam = createGaussianAdam(1.0, 100, rows);
+  const size_t width = adam.rowWidth;
+  std::normal_distribution<float> N(0.0f, 1.0f);
+  for (auto& x : adam.m) x = N(rng);
+  for (auto& x : adam.v) x = std::abs(N(rng));
+  for (auto& g : adam.groups) g.step = 7;
+  const std::vector<float> m = adam.m, v = adam.v;
+  // prune every third row, clone some, split one into two new rows
+  std::vector<uint32_t> source;
+  for (uint32_t r = 0; r < rows; r++)
+    if (r % 3) source.push_back(r);
+  source.push_back(5);
+  source.push_back(kNewRow);
+  source.push_back(kNewRow);
+  std::shuffle(source.begin(), source.end(), rng);
+  remapTableAdamRows(adam, source);
+  REQUIRE(adam.m.size() == source.size() * width);
+  REQUIRE(adam.v.size() == source.size() * width);
+  for (const auto& g : adam.groups) CHECK(g.step == 7);  // torch keeps a tensor's step count across 3DGS's replacements
+  size_t bad = 0;
+  for (size_t i = 0; i < source.size(); i++)
+    for (size_t k = 0; k < width; k++) {
+      float em = source[i] == kNewRow ? 0.0f : m[source[i] * width + k];
+      float ev = source[i] == kNewRow ? 0.0f : v[source[i] * width + k];
+      if (adam.m[i * width + k] != em || adam.v[i * width + k] != ev) bad++;
+    }
+  CHECK(bad == 0);
+  const std::vector<float> kept = adam.m;
+  CHECK_THROWS_AS(remapTableAdamRows(adam, {0, uint32_t(source.size())}), Error);
+  CHECK(adam.m == kept);  // unchanged after the refusal
+  remapTableAdamRows(adam, {});
+  CHECK(adam.m.empty());
 }

@@ -143,22 +143,6 @@ DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const De
   return out;
 }
 
-DensifyStats densify(Context& ctx, DeviceGaussians& dev, GaussianSet& host, const Buffer& stats, const DensifyConfig& config,
-                     uint32_t step, std::mt19937& rng, std::vector<uint32_t>& rowMap) {
-  if (stats.size < sizeof(float) * 2 * size_t(dev.count))
-    fail("densify: the statistics buffer holds fewer than 2 floats per Gaussian (" + std::to_string(dev.count) + " Gaussians)");
-  host = downloadGaussians(ctx, dev);
-  std::vector<float> hostStats = downloadVector<float>(ctx, stats, 2 * size_t(dev.count));
-  DensifyStats out = densify(host, hostStats, config, step, rng, rowMap);
-  bool identity = out.after == out.before;
-  for (size_t i = 0; identity && i < rowMap.size(); i++) identity = rowMap[i] == i;
-  if (!identity) {
-    if (host.count() == 0) fail("densify: every Gaussian was pruned (nothing left to train)");
-    dev = uploadGaussians(ctx, host);
-  }
-  return out;
-}
-
 void densityReset(GaussianSet& set, const DensifyConfig& config) {
   validateDensifyConfig(config);
   const float limit = float(logit(config.resetDensity));

@@ -1,9 +1,10 @@
 #pragma once
 // Adaptive density control of the Gaussians (3DGS strategy as 3DGRT and RefracGS run it,
-// docs/method.md §1.6), on the host: the trainer downloads the parameters and the tracer's
-// statistics, calls densify at the steps densifyDue/pruneDue name, uploads the new set,
-// remaps every Adam group with the returned row map (engine/optim/adam.h remapAdamRows) and zeroes
-// the statistics.
+// docs/method.md §1.6), on the host: the trainer keeps the parameters and the tracer's
+// statistics on the host, calls densify at the steps densifyDue/pruneDue name, remaps the
+// Adam table with the returned row map (engine/optim/table_adam.h remapTableAdamRows), uploads
+// the new set and zeroes the statistics; and decays and resets the densities
+// (densityDecay/densityReset) at the steps densityDecayDue/densityResetDue name.
 //
 //   clone  a Gaussian whose mean statistic (sum of |dL/dmean| * distance / 2 over the rays
 //          that blended it, divided by their number) is >= gradThreshold and whose largest
@@ -71,17 +72,9 @@ struct DensifyStats {
 // both are due; nothing when neither: rowMap is then the identity). `stats` holds 2 floats
 // per Gaussian as the tracer accumulates them (GaussianGradients::stats: sum, ray count).
 // rowMap[i] (one per output row) is the old row that row i continues, or kNewRow for a
-// clone or split child, exactly what remapAdamRows takes: new rows start at zero moments.
+// clone or split child, exactly what remapTableAdamRows takes: new rows start at zero moments.
 DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const DensifyConfig& config, uint32_t step,
                      std::mt19937& rng, std::vector<uint32_t>& rowMap);
-
-// The same for the device copy the trainer holds: downloads dev's parameters and `stats`
-// (a buffer of 2 floats per Gaussian, as cmdTraceBackward accumulates them), densifies, and
-// replaces dev with a new upload when anything changed; `host` receives the new set (needed
-// to rebuild the proxies). The caller then remaps its Adam groups with rowMap and gives the
-// statistics buffer the new count (2 * after floats) filled with zeros.
-DensifyStats densify(Context& ctx, DeviceGaussians& dev, GaussianSet& host, const Buffer& stats, const DensifyConfig& config,
-                     uint32_t step, std::mt19937& rng, std::vector<uint32_t>& rowMap);
 
 // density = min(density, config.resetDensity) for every Gaussian (on the logits).
 void densityReset(GaussianSet& set, const DensifyConfig& config);

@@ -16,9 +16,6 @@ struct StepPush {
   uint32_t first;
 };
 constexpr uint32_t kStepGroup = 256;  // adam_step's local size
-struct GatherPush {
-  uint32_t rows, rowWidth;
-};
 
 }  // namespace
 
@@ -52,7 +49,6 @@ AdamPipelines createAdamPipelines(Context& ctx) {
   const std::vector<VkDescriptorType> buffers = {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer};
   p.step = createComputePipeline(ctx, "adam_step", buffers, sizeof(StepPush), {{0, 0u}});  // whole workgroups
   p.stepTail = createComputePipeline(ctx, "adam_step", buffers, sizeof(StepPush), {{0, 1u}});  // guarded stores
-  p.gather = createComputePipeline(ctx, "gather_rows", {kStorageBuffer, kStorageBuffer, kStorageBuffer}, sizeof(GatherPush));
   return p;
 }
 
@@ -93,33 +89,6 @@ void cmdAdamStep(VkCommandBuffer cb, const AdamPipelines& p, AdamGroup& g, const
     push.first = whole * kStepGroup;
     cmdDispatch(cb, p.stepTail, {bind(params), bind(grads), bind(g.m), bind(g.v)}, &push, 1);
   }
-}
-
-void cmdGatherRows(VkCommandBuffer cb, const AdamPipelines& p, const Buffer& src, const Buffer& dst, const Buffer& sourceRows, uint32_t rows,
-                   uint32_t rowWidth) {
-  if (rows == 0) return;
-  if (dst.size < VkDeviceSize(rows) * rowWidth * 4 || sourceRows.size < VkDeviceSize(rows) * 4)
-    fail("gather rows: the destination or row list is smaller than " + std::to_string(rows) + " rows");
-  GatherPush push{rows, rowWidth};
-  cmdBarrier(cb);
-  cmdDispatch(cb, p.gather, {bind(src), bind(dst), bind(sourceRows)}, &push, groupsFor(rows * rowWidth, 256));
-}
-
-void remapAdamRows(Context& ctx, const AdamPipelines& p, AdamGroup& g, const std::vector<uint32_t>& sourceRow) {
-  for (uint32_t r : sourceRow)
-    if (r != kNewRow && r >= g.rows)
-      fail("Adam group '" + g.name + "': row " + std::to_string(r) + " does not exist (the group has " + std::to_string(g.rows) + ")");
-  uint32_t rows = uint32_t(sourceRow.size());
-  VkDeviceSize bytes = std::max<VkDeviceSize>(VkDeviceSize(rows) * g.rowWidth * sizeof(float), 4);
-  Buffer m = createBuffer(ctx, bytes), v = createBuffer(ctx, bytes);
-  Buffer source = createBufferFrom(ctx, sourceRow);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    cmdGatherRows(cb, p, g.m, m, source, rows, g.rowWidth);
-    cmdGatherRows(cb, p, g.v, v, source, rows, g.rowWidth);
-  });
-  g.m = std::move(m);
-  g.v = std::move(v);
-  g.rows = rows;
 }
 
 }  // namespace refrax

@@ -5,9 +5,8 @@
 //   p -= lr / (1 - b1^t) * m / (sqrt(v) / sqrt(1 - b2^t) + eps)      (t = steps taken, from 1)
 // b1 0.9, b2 0.999, eps 1e-15. A group's parameters and gradients live in caller-owned float
 // buffers (at a float offset, so several groups may share one buffer); the group owns m and v.
-// Groups are tables of rows (one row per Gaussian: 3 floats of position, 4 of rotation, ...);
-// densification rebuilds a table with remapAdamRows, which carries each surviving row's
-// moments along and starts new rows at zero moments, as 3DGS does.
+// The height MLP's weights are such a group; the Gaussians' table, which densification
+// rebuilds, is on the host (engine/optim/table_adam.h), with the same update.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -58,7 +57,6 @@ LearningRateSchedule referenceLearningRate(const std::string& name, double scene
 struct AdamPipelines {
   ComputePipeline step;      // whole workgroups
   ComputePipeline stepTail;  // the last partial workgroup
-  ComputePipeline gather;
 };
 AdamPipelines createAdamPipelines(Context& ctx);
 
@@ -72,15 +70,8 @@ AdamGroup createAdamGroup(Context& ctx, const std::string& name, const LearningR
 void cmdAdamStep(VkCommandBuffer cb, const AdamPipelines& p, AdamGroup& group, const Buffer& params, const Buffer& grads,
                  uint32_t offset = 0, bool clearGradients = false, const AdamSettings& settings = {});
 
-// Row i of a rebuilt table comes from old row sourceRow[i], or is new (kNewRow): zero.
+// Row i of a rebuilt table comes from old row sourceRow[i], or is new (kNewRow): zero
+// (engine/optim/table_adam.h remapTableAdamRows, engine/gaussian/densify.h).
 constexpr uint32_t kNewRow = 0xFFFFFFFFu;
-// Records dst row i = src row sourceRow[i] (or zeros) for `rows` rows of rowWidth floats;
-// sourceRows is a buffer of `rows` uint32. Works for parameter tables too.
-void cmdGatherRows(VkCommandBuffer cb, const AdamPipelines& p, const Buffer& src, const Buffer& dst, const Buffer& sourceRows,
-                   uint32_t rows, uint32_t rowWidth);
-// Rebuilds the group's moments for the new row list (prune: omit rows; clone/split: append
-// kNewRow, or repeat an old row to copy its moments). Throws refrax::Error on a source row
-// out of range.
-void remapAdamRows(Context& ctx, const AdamPipelines& p, AdamGroup& group, const std::vector<uint32_t>& sourceRow);
 
 }  // namespace refrax

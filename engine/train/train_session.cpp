@@ -25,9 +25,6 @@ namespace {
 // tight as Gaussians move; between, the tree is rebuilt in the same order.
 constexpr int kProxyReorderInterval = 100;
 
-double logitOf(double p) { return std::log(p / (1.0 - p)); }
-double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
-
 // The batch's buffers for up to n rays (the model's own: growModelRayCapacity).
 void allocateBatchBuffers(TrainSession& s, uint32_t n) {
   Context& ctx = *s.ctx;
@@ -187,6 +184,15 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   dc.pruneInterval = uint32_t(std::max(1, k.pruneInterval));
   dc.pruneLargeFromStep = uint32_t(k.pruneLargeFrom);
   dc.maxGaussians = config.maxGaussians;
+  // Density decay every --density-decay-every steps, resets every --density-reset-every
+  // steps before --density-reset-until (an interval of 0: never; applyDensitySchedule).
+  dc.decayFactor = float(config.densityDecay);
+  dc.decayFrom = 0;
+  dc.decayInterval = uint32_t(std::max(1, k.densityDecayInterval));
+  dc.resetDensity = float(config.densityResetValue);
+  dc.resetFrom = 0;
+  dc.resetUntil = uint32_t(std::max(0, k.densityResetUntil - 1));
+  dc.resetInterval = uint32_t(std::max(1, k.densityResetInterval));
   validateDensifyConfig(dc);
 
   allocateBatchBuffers(*s, s->capacity);
@@ -281,21 +287,11 @@ void ensureSurfacePrior(TrainSession& s) {
 
 void applyDensitySchedule(TrainSession& s, int t) {
   const ScheduleSteps& k = s.config.schedule;
-  size_t n = s.gaussians.count();
-  if (k.densityDecayInterval > 0 && t % k.densityDecayInterval == 0) {
-    for (size_t i = 0; i < n; i++) {
-      float& l = s.gaussians.at(i)[f32::kGaussLogitDensity];
-      l = float(logitOf(std::clamp(sigmoid(l) * s.config.densityDecay, 1e-6, 1 - 1e-6)));
-    }
-  }
+  if (k.densityDecayInterval > 0 && densityDecayDue(s.densifyConfig, uint32_t(t))) densityDecay(s.gaussians, s.densifyConfig);
   // As in 3DGS, the reset belongs to the densification strategy (it lets pruning remove
   // Gaussians that do not regain density): without densification it only costs steps.
-  if (s.config.densify && k.densityResetInterval > 0 && t % k.densityResetInterval == 0 && t < k.densityResetUntil) {
-    float cap = float(logitOf(s.config.densityResetValue));
-    for (size_t i = 0; i < n; i++) {
-      float& l = s.gaussians.at(i)[f32::kGaussLogitDensity];
-      l = std::min(l, cap);
-    }
+  if (s.config.densify && k.densityResetInterval > 0 && densityResetDue(s.densifyConfig, uint32_t(t))) {
+    densityReset(s.gaussians, s.densifyConfig);
     resetAdamColumns(s.gaussianAdam, "density");
   }
 }
