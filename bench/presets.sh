@@ -4,12 +4,16 @@
 # Gaussians drawn at a plane sweep's depth, afresh at two restarts; and one surface step per
 # pass over the training views, --surface-batch views), of the refraction model
 # with and without the slope prior (--surface-smoothness), next to
-# --flat-water and --no-refraction on the same data, seed and steps,
+# --flat-water and --no-refraction on the same data, seed and steps, straight rays given the
+# method's start (no-refraction-sweep: the plane sweep and the restarts, so a gain is the
+# water's and not the start's), and the dry control (dry-control: straight rays on the same
+# views with the water removed, `refrax synth --dry`: what the Gaussians reach at this budget),
 # for each NeRFrac-like preset (3 x 3 downward rig, IOR 1.1) and each RefracGS-like scene
 # (desk, kitchen, toys: 24 ring views at IOR 1.33, and their 9-camera downward variants).
 #
 # Usage: bench/presets.sh [--full | --smoke] [--out DIR] [--keep-work] [--charts-only]
-#                         [--models refraction-sweep,refraction,refraction-smooth,flat-water,no-refraction]
+#                         [--models refraction-sweep,refraction,refraction-smooth,flat-water,no-refraction,
+#                                   no-refraction-sweep,dry-control]
 #                         [--presets NAME,...] [--refraction-options "OPTS"] [--smoothness X]
 #                         [--dataset-size tiny|full] [--steps N]
 #   default  tiny presets (64 px wide), 1,500 steps of 32 x 32 patches, 2,000 initial Gaussians
@@ -17,8 +21,8 @@
 #            short-run surface settings (3 octaves, --surface-lr 3e-3, the surface learning from
 #            step 200, the anchored mean height; docs/training.md), and the same with
 #            --surface-smoothness 0.1 (refraction-smooth), and the same with --level-prior 1000
-#            --init-depth sweep --restart-gaussians 500,800 --surface-batch views (refraction-sweep). 45 runs, about
-#            60 minutes on this 2-core lavapipe machine.
+#            --init-depth sweep --restart-gaussians 500,800 --surface-batch views (refraction-sweep). 63 runs, about
+#            80 minutes on this 2-core lavapipe machine.
 #   --full   full-size presets (392 px NeRFrac-like, 400 x 300 RefracGS-like), the reference
 #            schedule: 15,000 whole-image steps, 20,000 initial Gaussians, SH degree 3 (a GPU).
 #   --smoke  two presets, 20 steps (checks the pipeline, not the method).
@@ -36,8 +40,8 @@
 #   --smoothness X  the slope prior's weight for refraction-smooth (default 0.1; 0.01 held
 #            2 of the 4 presets whose surface ran away and let a stable one drift, see docs/experiments/2026-11-24-surface-smoothness.md).
 # Writes DIR/presets.csv (one row per run: preset and variant, then `refrax report`'s columns) and
-# DIR/summary.md (device, load, sizes, and per preset the five variants with
-# refraction-sweep's gain over each other one).
+# DIR/summary.md (device, load, sizes, and per preset the seven variants with
+# refraction-sweep's gain over each other one: over dry-control, what refraction still costs).
 set -euo pipefail
 . "$(dirname "$0")/suite-lib.sh"
 invocation="bench/presets.sh${1:+ $*}"
@@ -82,7 +86,12 @@ smooth="--surface-smoothness $smoothness"
 # --surface-batch views: one surface step per pass over the training views, on their summed
 # gradient (without it the surface ran away on 5 of the 9 tiny presets; docs/training.md)
 sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts --surface-batch views"
-models=("refraction-sweep|$refraction $sweep" "refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water" "no-refraction|--no-refraction")
+# name|train options[|synth options]
+models=("refraction-sweep|$refraction $sweep" "refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water"
+        "no-refraction|--no-refraction" "no-refraction-sweep|--no-refraction --init-depth sweep --restart-gaussians $restarts"
+        "dry-control|--no-refraction|--dry")
+train_options() { local rest=${1#*|}; echo "${rest%%|*}"; }
+synth_options() { local rest=${1#*|}; case $rest in *"|"*) echo "${rest#*|}" ;; esac; }
 all_presets=$(IFS=,; echo "${presets[*]}")
 csv=$out/presets.csv
 if [ -n "$only_models" ]; then
@@ -118,15 +127,16 @@ if [ $charts_only = 0 ]; then
   echo "warming up the shader cache (one 4-step run per model)"
   for entry in "${models[@]}"; do
     # shellcheck disable=SC2086
-    suite_warmup "$(suite_dataset "${presets[0]}")" $common ${entry#*|}
+    suite_warmup "$(suite_dataset "${presets[0]}")" $common $(train_options "$entry")
   done
   for preset in "${presets[@]}"; do
     echo "$preset:"
-    data=$(suite_dataset "$preset")
     for entry in "${models[@]}"; do
       name=${entry%%|*}
       # shellcheck disable=SC2086
-      suite_train "$csv" "preset=$preset,variant=$name" "$data" "$preset-$name" --steps $steps --eval-every $steps $common ${entry#*|}
+      data=$(suite_dataset "$preset" $(synth_options "$entry"))
+      # shellcheck disable=SC2086
+      suite_train "$csv" "preset=$preset,variant=$name" "$data" "$preset-$name" --steps $steps --eval-every $steps $common $(train_options "$entry")
     done
   done
 fi
@@ -153,8 +163,11 @@ lines = [
     "Device: $device. Generated by \`$invocation\` on $(date -u +%Y-%m-%d).",
     "$load_line", "",
     "Sizes: \`refrax synth <preset> --size $size\`; every run \`--steps $steps $common\`; the refraction model adds",
-    "\`${refraction:-nothing}\`, refraction-smooth also \`$smooth\`, refraction-sweep also \`$sweep\`. One seed (1); times are training wall time (evaluations excluded), every run on one",
-    "device, one after the other. *gain* is the refraction-sweep model's test PSNR minus the other model's on the same preset;",
+    "\`${refraction:-nothing}\`, refraction-smooth also \`$smooth\`, refraction-sweep also \`$sweep\`; no-refraction-sweep is",
+    "straight rays with the sweep and the restarts; dry-control is straight rays on \`refrax synth <preset> --dry\` (the same views without the water,",
+    "the Gaussians' ceiling at this budget). One seed (1); times are training wall time (evaluations excluded), every run on one",
+    "device, one after the other. *gain* is the refraction-sweep model's test PSNR minus the other model's on the same preset",
+    "(over dry-control: what refraction still costs, negative while the method trails its ceiling);",
     "*flat start* is the surface RMSE of the initial flat plane (the water height the dataset gives).", "",
     "| preset | variant | test PSNR (dB) | gain (dB) | SSIM | surface RMSE | flat start | training (s) | Gaussians |",
     "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
@@ -163,7 +176,7 @@ by = {(r["preset"], r["variant"]): r for r in rows}
 for preset in dict.fromkeys(r["preset"] for r in rows):
     ref = by.get((preset, "refraction-sweep"))
     # the models run on some preset (the full-size table runs three of the five)
-    for model in (m for m in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "no-refraction") if any(r["variant"] == m for r in rows)):
+    for model in (m for m in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "no-refraction", "no-refraction-sweep", "dry-control") if any(r["variant"] == m for r in rows)):
         r = by.get((preset, model))
         if r is None:
             lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | |")
