@@ -20,6 +20,9 @@ using namespace refrax;
 
 namespace {
 
+// Heights (m) that differ by float rounding only.
+constexpr double kHeightRounding = 1e-7;
+
 double largestDifference(const std::vector<float>& a, const std::vector<float>& b) {
   REQUIRE(a.size() == b.size());
   double most = 0;
@@ -55,13 +58,18 @@ void checkModelMatchesSession(Context& ctx, int steps, Change change) {
   if (session->height) {
     REQUIRE(model->height);
     CHECK(model->height->config.encodingWindow == session->height->config.encodingWindow);
-    CHECK(model->height->config.initialHeight == session->height->config.initialHeight);  // the anchored constant
+    // The anchored constant: training reaches it by one shift per surface step, the load by
+    // one shift from the base, so the two agree to float rounding (measured up to 1e-9 m; the
+    // anchor left out on load is 1e-4 to 1e-2 m off).
+    CHECK(std::abs(model->height->config.initialHeight - session->height->config.initialHeight) <= kHeightRounding);
   }
-  CHECK(sampleWaterHeights(*model, 9, 9) == sampleWaterHeights(*session, 9, 9));
+  const std::vector<double> a = sampleWaterHeights(*model, 9, 9), b = sampleWaterHeights(*session, 9, 9);
+  REQUIRE(a.size() == b.size());
+  for (size_t k = 0; k < a.size(); k++) CHECK(std::abs(a[k] - b[k]) <= kHeightRounding);
   const Camera& camera = dataset.split("test")[0].camera;
   for (WaterView water : {WaterView::Keep, WaterView::Remove}) {
     RenderedView fromModel = renderView(*model, camera, water), fromSession = renderView(*session, camera, water);
-    CHECK(largestDifference(fromModel.image.pixels, fromSession.image.pixels) == 0.0);
+    CHECK(largestDifference(fromModel.image.pixels, fromSession.image.pixels) <= 1e-5);  // a wrong water: 0.02
     CHECK(fromModel.missed == fromSession.missed);
   }
   // A render larger than the dataset's images grows the model's ray buffers (and its surface).

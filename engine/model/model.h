@@ -92,7 +92,8 @@ std::vector<double> viewWeights(const Model& m, const std::vector<View>& views);
 // config.waterHeight, and lifts the surface again. Water every view sees counts most, a corner
 // one camera sees counts little, unseen water not at all (an unweighted mean let the border
 // carry the shift the seen centre needed: on the strong-wave tiny preset the centre sat 2-6 cm
-// low). A function of the weights alone, so a reloaded model recomputes the same constant.
+// low). A function of the weights alone, so a reloaded model recomputes the constant (to float
+// rounding: training reaches it by one shift per surface step).
 void anchorMeanHeight(Model& m, const std::vector<double>& weights);
 
 // The water's heights on an nx x ny grid over the domain, rows along y (water_height.npy's
