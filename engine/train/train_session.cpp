@@ -185,12 +185,15 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   dc.pruneLargeFromStep = uint32_t(k.pruneLargeFrom);
   dc.maxGaussians = config.maxGaussians;
   // Density decay every --density-decay-every steps, resets every --density-reset-every
-  // steps before --density-reset-until (an interval of 0: never; applyDensitySchedule).
+  // steps before --density-reset-until (applyDensitySchedule); an interval of 0: never. As in
+  // 3DGS, the reset belongs to the densification strategy (it lets pruning remove Gaussians
+  // that do not regain density): without densification it only costs steps.
+  constexpr uint32_t kNever = 0xFFFFFFFFu;
   dc.decayFactor = float(config.densityDecay);
-  dc.decayFrom = 0;
+  dc.decayFrom = k.densityDecayInterval > 0 ? 0 : kNever;
   dc.decayInterval = uint32_t(std::max(1, k.densityDecayInterval));
   dc.resetDensity = float(config.densityResetValue);
-  dc.resetFrom = 0;
+  dc.resetFrom = config.densify && k.densityResetInterval > 0 ? 0 : kNever;
   dc.resetUntil = uint32_t(std::max(0, k.densityResetUntil - 1));
   dc.resetInterval = uint32_t(std::max(1, k.densityResetInterval));
   validateDensifyConfig(dc);
@@ -239,6 +242,13 @@ double planeHeightGradient(TrainSession& s) {
   return sum;
 }
 
+// viewWeights over the training views, computed once per surface grid (the anchor, the level
+// prior and the divergence check weigh the water by how many training views see it).
+const std::vector<double>& trainViewWeights(TrainSession& s) {
+  if (s.anchorWeights.size() != s.surface->gridPointCount) s.anchorWeights = viewWeights(s, s.dataset.split("train"));
+  return s.anchorWeights;
+}
+
 void planeAdamStep(TrainSession& s, double grad) {
   std::vector<float> height{float(s.planeHeight)};
   tableAdamStep(s.planeAdam, height, {float(grad)});
@@ -250,8 +260,7 @@ void planeAdamStep(TrainSession& s, double grad) {
 
 void anchorMeanHeight(TrainSession& s) {
   if (!s.config.anchorMeanHeight || !s.height || !s.surface) return;
-  if (s.anchorWeights.size() != s.surface->gridPointCount) s.anchorWeights = viewWeights(s, s.dataset.split("train"));
-  anchorMeanHeight(static_cast<Model&>(s), s.anchorWeights);
+  anchorMeanHeight(static_cast<Model&>(s), trainViewWeights(s));
 }
 
 namespace {
@@ -273,8 +282,7 @@ void computeSurfacePrior(TrainSession& s) {
   s.priorEnergy = 0;
   if (s.config.surfaceSmoothness > 0) s.priorEnergy += slopePrior(heights, g, s.config.surfaceSmoothness, &s.priorGrad);
   if (s.config.levelPrior > 0) {
-    if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = viewWeights(s, s.dataset.split("train"));
-    s.priorEnergy += levelPrior(heights, g, s.anchorWeights, s.config.levelPrior, &s.priorGrad);
+    s.priorEnergy += levelPrior(heights, g, trainViewWeights(s), s.config.levelPrior, &s.priorGrad);
   }
   s.priorHeightsVersion = ws.heightsVersion;
 }
@@ -286,11 +294,8 @@ void ensureSurfacePrior(TrainSession& s) {
 }
 
 void applyDensitySchedule(TrainSession& s, int t) {
-  const ScheduleSteps& k = s.config.schedule;
-  if (k.densityDecayInterval > 0 && densityDecayDue(s.densifyConfig, uint32_t(t))) densityDecay(s.gaussians, s.densifyConfig);
-  // As in 3DGS, the reset belongs to the densification strategy (it lets pruning remove
-  // Gaussians that do not regain density): without densification it only costs steps.
-  if (s.config.densify && k.densityResetInterval > 0 && densityResetDue(s.densifyConfig, uint32_t(t))) {
+  if (densityDecayDue(s.densifyConfig, uint32_t(t))) densityDecay(s.gaussians, s.densifyConfig);
+  if (densityResetDue(s.densifyConfig, uint32_t(t))) {
     densityReset(s.gaussians, s.densifyConfig);
     resetAdamColumns(s.gaussianAdam, "density");
   }
@@ -426,12 +431,12 @@ bool surfaceStepAt(const TrainSession& s, int t) {
 // with every ray missing it and ends as a normal run.
 void requireSurfaceInScene(TrainSession& s, int t) {
   WaterSurface& ws = *s.surface;
-  if (s.anchorWeights.size() != ws.gridPointCount) s.anchorWeights = viewWeights(s, s.dataset.split("train"));
+  const std::vector<double>& weights = trainViewWeights(s);
   const std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
   double low = INFINITY, high = -INFINITY;
   bool finite = true;
   for (size_t k = 0; k < heights.size(); k++)
-    if (s.anchorWeights[k] > 0) {
+    if (weights[k] > 0) {
       finite = finite && std::isfinite(heights[k]);
       low = std::min(low, double(heights[k]));
       high = std::max(high, double(heights[k]));
