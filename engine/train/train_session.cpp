@@ -297,7 +297,8 @@ void applyDensitySchedule(TrainSession& s, int t) {
   // Not densityDecay (engine/gaussian/densify.h), which lets a density fall without bound:
   // this decay keeps every density in [1e-6, 1 - 1e-6], so a Gaussian the optimiser drove
   // toward zero stays where Adam can bring it back. The long test's strong wave trained
-  // 18.9-19.1 dB with densityDecay (three runs) and 19.6 dB with this (one run).
+  // 18.94, 19.12, 19.02 dB with densityDecay and 19.57, 19.23 dB with this: not yet told apart
+  // from the run-to-run spread (~0.7 dB).
   if (densityDecayDue(s.densifyConfig, uint32_t(t)))
     for (size_t i = 0; i < s.gaussians.count(); i++) {
       float& l = s.gaussians.at(i)[f32::kGaussLogitDensity];
