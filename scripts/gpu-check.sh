@@ -4,31 +4,38 @@
 #   1. refrax devices (which trace backends the GPU offers, and why not)
 #   2. refrax selftest on each backend it offers (rayquery, compute)
 #   3. the Gaussian tracer and water-surface benchmarks on each backend, the ray-query floor
-#   4. the short test suite on each backend
-#   5. a full-size preset trained at the reference schedule (15,000 whole-image steps, or as many
+#   4. a full-size preset trained at the reference schedule (15,000 whole-image steps, or as many
 #      as fit the budget) with its time per step and per-stage profile, then headless renders of
 #      its test view at 392 x 392 for the frame time
+#   5. the short test suite on each backend
 # and summary.txt with the answers: device, backends, FPS at 392^2, ms per training step.
 #
 # Usage, from a repository clone (builds first when build/refrax is missing):
-#   scripts/gpu-check.sh [--out DIR] [--train-minutes M]      (default gpu-check-<date>, 3 minutes)
+#   scripts/gpu-check.sh [--out DIR] [--train-minutes M] [--tests-minutes M]
+#                        (defaults: gpu-check-<date>, 3 minutes of training, 5 minutes per suite)
 # On a machine without compilers or Vulkan headers, make a bundle on a Debian bookworm machine
 # that has built Refrax, copy it over, and run the same script from it:
-#   scripts/gpu-check.sh --bundle DIR       # DIR: bin/ (refrax, refrax_tests), lib/ (libstb.so.0,
-#                                           # libstdc++.so.6, libgcc_s.so.1), assets/, gpu-check.sh
-#   DIR/gpu-check.sh [--out DIR2]           # on the GPU machine (needs glibc >= 2.36 and libvulkan1)
+#   scripts/gpu-check.sh --bundle DIR       # DIR: bin/ (refrax, refrax_tests, stripped), lib/ (libstb,
+#                                           # the C++ runtime, the Vulkan loader, the validation layer),
+#                                           # layers/ (its manifest), assets/, gpu-check.sh
+#   DIR/gpu-check.sh [--out DIR2]           # on the GPU machine (needs glibc >= 2.36 and a Vulkan driver)
+# A bundle brings its own Vulkan loader and validation layer (the suite runs with validation on), and
+# finds a driver whose manifest sits outside the loader's search path (NVIDIA's container images keep
+# it under /usr/local/nvidia/share/vulkan/icd.d).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 out=""
 train_minutes=3
+tests_minutes=5
 bundle=""
 while [ $# -gt 0 ]; do
   case $1 in
     --out) out=${2:?--out needs a folder}; shift ;;
     --train-minutes) [[ ${2:-} =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "gpu-check: --train-minutes needs a number" >&2; exit 2; }; train_minutes=$2; shift ;;
+    --tests-minutes) [[ ${2:-} =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "gpu-check: --tests-minutes needs a number" >&2; exit 2; }; tests_minutes=$2; shift ;;
     --bundle) bundle=${2:?--bundle needs a folder}; shift ;;
     -h|--help) sed -n '2,/^set -uo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "gpu-check: unknown option '$1' (--out DIR, --train-minutes M, --bundle DIR)" >&2; exit 2 ;;
+    *) echo "gpu-check: unknown option '$1' (--out DIR, --train-minutes M, --tests-minutes M, --bundle DIR)" >&2; exit 2 ;;
   esac
   shift
 done
@@ -40,6 +47,13 @@ if [ -x "$here/bin/refrax" ]; then
   TESTS=$root/bin/refrax_tests
   export LD_LIBRARY_PATH="$root/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
   export REFRAX_SOURCE_DIR=$root
+  [ -d "$root/layers" ] && export VK_LAYER_PATH="$root/layers${VK_LAYER_PATH:+:$VK_LAYER_PATH}"
+  # a driver the loader cannot find by itself: its manifest outside the standard folders
+  if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] &&
+     ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json /usr/local/share/vulkan/icd.d/*.json >/dev/null 2>&1; then
+    manifests=$(ls /usr/local/*/share/vulkan/icd.d/*.json /opt/*/share/vulkan/icd.d/*.json 2>/dev/null | paste -sd:)
+    [ -n "$manifests" ] && export VK_DRIVER_FILES=$manifests VK_ICD_FILENAMES=$manifests
+  fi
 else
   root=$(cd "$here/.." && pwd)
   if [ ! -x "$root/build/refrax" ]; then
@@ -54,8 +68,10 @@ export REFRAX_CLI=$REFRAX  # the test binary runs this refrax
 
 if [ -n "$bundle" ]; then
   [ -x "$root/build/refrax" ] && [ -x "$root/build/tests/refrax_tests" ] || { echo "gpu-check: --bundle needs build/refrax and build/tests/refrax_tests (scripts/test.sh builds both)" >&2; exit 2; }
-  mkdir -p "$bundle/bin" "$bundle/lib" "$bundle/assets"
-  cp "$root/build/refrax" "$root/build/tests/refrax_tests" "$bundle/bin/"
+  mkdir -p "$bundle/bin" "$bundle/lib" "$bundle/layers" "$bundle/assets"
+  for bin in "$root/build/refrax" "$root/build/tests/refrax_tests"; do  # without debug info: a third the size
+    strip -o "$bundle/bin/$(basename "$bin")" "$bin" 2>/dev/null || cp "$bin" "$bundle/bin/"
+  done
   cp -r "$root/assets/textures" "$bundle/assets/"
   cp "$0" "$bundle/gpu-check.sh"
   # the libraries a machine with a Vulkan driver may lack: Debian's stb and the bookworm C++ runtime
@@ -63,6 +79,16 @@ if [ -n "$bundle" ]; then
     path=$(ldd "$root/build/refrax" | awk -v l="$lib" '$1 == l { print $3 }')
     [ -n "$path" ] && cp -L "$path" "$bundle/lib/"
   done
+  # the Vulkan loader (volk opens it at run time, so ldd does not list it) and the validation layer
+  loader=$(ldconfig -p | awk '$1 == "libvulkan.so.1" && /x86-64/ { print $NF; exit }')
+  [ -n "$loader" ] && cp -L "$loader" "$bundle/lib/"
+  layer_json=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
+  layer_lib=$(ldconfig -p | awk '$1 == "libVkLayer_khronos_validation.so" { print $NF; exit }')
+  if [ -f "$layer_json" ] && [ -n "$layer_lib" ]; then
+    cp "$layer_json" "$bundle/layers/" && cp -L "$layer_lib" "$bundle/lib/"
+  else
+    echo "gpu-check: no validation layer here (Debian: vulkan-validationlayers): the suite in the bundle needs it" >&2
+  fi
   echo "gpu-check: bundle in $bundle ($(du -sh "$bundle" | cut -f1)); on the GPU machine run $bundle/gpu-check.sh"
   exit 0
 fi
@@ -104,20 +130,14 @@ done
 # 3. benchmarks per backend (the ray-query floor needs ray queries)
 for b in "${backends[@]}"; do
   run 120 "bench-tracer-$b" "$REFRAX" bench tracer --trace "$b"
-  note "bench tracer $b: $(grep -m 3 -E 'Mrays|rays/s' "$out/bench-tracer-$b.log" | tr '\n' ';')"
+  # the first proxy's forward rate per scene: "== 10000 Gaussians" then its table's first row
+  note "bench tracer $b (392^2 rays, forward Mrays/s): $(awk '/^== /{ n = $2; row = 1; next }
+    row && /^[a-z][a-z-]+ +[0-9.]+ +[0-9.]+ +[0-9.]+/ { printf "%s Gaussians %s (%s); ", n, $4, $1; row = 0 }' "$out/bench-tracer-$b.log")"
   run 120 "bench-surface-$b" "$REFRAX" bench surface --trace "$b"
 done
 [[ " ${backends[*]} " == *" rayquery "* ]] && run 120 bench-rays "$REFRAX" bench rays
 
-# 4. the short suite per backend (the viewer's cases need a display and refrax-view: left out)
-for b in "${backends[@]}"; do
-  if [ -x "$TESTS" ]; then
-    REFRAX_TRACE=$b run 300 "tests-$b" "$TESTS" --test-suite-exclude=long --test-case-exclude='refrax-view*'
-    note "tests $b: $(grep -E '^\[doctest\] test cases' "$out/tests-$b.log" | tail -n 1)"
-  fi
-done
-
-# 5. a full-size preset at the reference schedule, then its test view's frame time at 392^2
+# 4. a full-size preset at the reference schedule, then its test view's frame time at 392^2
 data=$out/nerfrac-primary-sine
 run 600 synth "$REFRAX" synth nerfrac-primary-sine --size full -o "$data"
 limit=$(awk -v m="$train_minutes" 'BEGIN { printf "%d", m * 60 }')
@@ -130,4 +150,17 @@ if [ -f "$out/run/metrics.json" ]; then
 else
   note "training: FAILED (train.log)"
 fi
+
+# 5. the short suite per backend (the viewer's cases need a display and refrax-view: left out)
+tests_limit=$(awk -v m="$tests_minutes" 'BEGIN { printf "%d", m * 60 }')
+for b in "${backends[@]}"; do
+  if [ -x "$TESTS" ]; then
+    REFRAX_TRACE=$b run "$tests_limit" "tests-$b" "$TESTS" --test-suite-exclude=long --test-case-exclude='refrax-view*' --duration=true
+    summary_line=$(grep -E '^\[doctest\] test cases' "$out/tests-$b.log" | tail -n 1)
+    # stopped at the limit: doctest still prints its summary, with the case it was in counted failed
+    grep -q '^(stopped at the' "$out/tests-$b.log" &&
+      summary_line="stopped at the ${tests_limit} s limit after $(grep -cE '^[0-9.]+ s: ' "$out/tests-$b.log") cases (${summary_line:-no summary}; the case it was in counts as failed)"
+    note "tests $b: $summary_line"
+  fi
+done
 note "gpu check took $(( $(date +%s) - start )) s; everything is in $out"
