@@ -296,6 +296,23 @@ TEST_CASE("densify: density reset and decay on the logits") {
   }
 }
 
+TEST_CASE("densify: the decay's floor raises every density under it and leaves the rest decayed") {
+  DensifyConfig config;
+  config.decayFloor = 1e-6f;
+  GaussianSet set;
+  const double densities[] = {1e-12, 1.005e-6, 1e-5, 0.3, 0.999};
+  for (double d : densities) addGaussian(set, glm::vec3(0), glm::vec3(0.01f), float(d));
+  GaussianSet decayed = set;
+  densityDecay(decayed, config);
+  for (size_t i = 0; i < set.count(); i++) {
+    const double p = sigmoidOf(set.at(i)[f32::kGaussLogitDensity]);
+    // relative: doctest's Approx adds its scale (1) to the tolerance, which hides a 1e-6 density
+    CHECK(sigmoidOf(decayed.at(i)[f32::kGaussLogitDensity]) / std::max(0.99 * p, 1e-6) == doctest::Approx(1.0).epsilon(1e-5));
+  }
+  config.decayFloor = 1.0f;
+  CHECK_THROWS_AS(densityDecay(set, config), Error);
+}
+
 TEST_CASE("densify: bad input is one clear error") {
   GaussianSet set;
   addGaussian(set, glm::vec3(0), glm::vec3(0.01f), 0.5f);

@@ -57,6 +57,7 @@ void validateDensifyConfig(const DensifyConfig& c) {
   if (!(c.minDensity >= 0 && c.minDensity < 1)) fail("densify: minDensity must be in [0, 1)");
   if (!(c.resetDensity > 0 && c.resetDensity < 1)) fail("densify: resetDensity must be in (0, 1)");
   if (!(c.decayFactor > 0 && c.decayFactor <= 1)) fail("densify: decayFactor must be in (0, 1]");
+  if (!(c.decayFloor >= 0 && c.decayFloor < 1)) fail("densify: decayFloor must be in [0, 1)");
   if (c.maxGaussians == 0) fail("densify: maxGaussians must be at least 1");
 }
 
@@ -154,14 +155,19 @@ void densityReset(GaussianSet& set, const DensifyConfig& config) {
 
 void densityDecay(GaussianSet& set, const DensifyConfig& config) {
   validateDensifyConfig(config);
-  if (config.decayFactor == 1.0f) return;  // the identity, even for logits too large for the formula below
+  const double f = config.decayFactor;
+  const double floorLogit = config.decayFloor > 0 ? logit(config.decayFloor) : -INFINITY;
   for (size_t i = 0; i < set.count(); i++) {
     float& x = set.at(i)[f32::kGaussLogitDensity];
-    // logit(f p), p = sigmoid(x), as log(f p) - log(1 - f p) with 1 - f p = sigmoid(-x) + (1 - f) p,
-    // so neither a large nor a very negative logit loses its value to rounding.
-    const double xd = x, f = config.decayFactor;
-    const double logP = xd >= 0 ? -std::log1p(std::exp(-xd)) : xd - std::log1p(std::exp(xd));
-    x = float(std::log(f) + logP - std::log(sigmoid(-xd) + (1.0 - f) * sigmoid(xd)));
+    const double xd = x;
+    double decayed = xd;  // factor 1: the identity, even for logits too large for the formula below
+    if (f != 1.0) {
+      // logit(f p), p = sigmoid(x), as log(f p) - log(1 - f p) with 1 - f p = sigmoid(-x) + (1 - f) p,
+      // so neither a large nor a very negative logit loses its value to rounding.
+      const double logP = xd >= 0 ? -std::log1p(std::exp(-xd)) : xd - std::log1p(std::exp(xd));
+      decayed = std::log(f) + logP - std::log(sigmoid(-xd) + (1.0 - f) * sigmoid(xd));
+    }
+    x = float(std::max(decayed, floorLogit));
   }
 }
 

@@ -48,6 +48,9 @@ struct DensifyConfig {
   float resetDensity = 0.01f;
   uint32_t decayFrom = 0, decayUntil = 0xFFFFFFFFu, decayInterval = 50;
   float decayFactor = 0.99f;
+  // The density the decay leaves every Gaussian at or above (0: none). Training keeps 1e-6, so
+  // a Gaussian the optimiser drove toward zero stays where Adam can bring it back.
+  float decayFloor = 0.0f;
 };
 // Throws refrax::Error for non-positive extent, intervals or divisor, or thresholds out of range.
 void validateDensifyConfig(const DensifyConfig& config);
@@ -78,7 +81,7 @@ DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const De
 
 // density = min(density, config.resetDensity) for every Gaussian (on the logits).
 void densityReset(GaussianSet& set, const DensifyConfig& config);
-// density *= config.decayFactor for every Gaussian (on the logits).
+// density = max(density * config.decayFactor, config.decayFloor) for every Gaussian (on the logits).
 void densityDecay(GaussianSet& set, const DensifyConfig& config);
 
 // The mean statistic of Gaussian i (0 when no ray blended it).

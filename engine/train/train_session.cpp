@@ -190,6 +190,7 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   // that do not regain density): without densification it only costs steps.
   constexpr uint32_t kNever = 0xFFFFFFFFu;
   dc.decayFactor = float(config.densityDecay);
+  dc.decayFloor = 1e-6f;  // a density driven toward zero stays where Adam can bring it back
   dc.decayFrom = k.densityDecayInterval > 0 ? 0 : kNever;
   dc.decayInterval = uint32_t(std::max(1, k.densityDecayInterval));
   dc.resetDensity = float(config.densityResetValue);
@@ -294,17 +295,7 @@ void ensureSurfacePrior(TrainSession& s) {
 }
 
 void applyDensitySchedule(TrainSession& s, int t) {
-  // Not densityDecay (engine/gaussian/densify.h), which lets a density fall without bound:
-  // this decay keeps every density in [1e-6, 1 - 1e-6], so a Gaussian the optimiser drove
-  // toward zero stays where Adam can bring it back. The long test's strong wave trained
-  // 18.94, 19.12, 19.02 dB with densityDecay and 19.57, 19.23 dB with this: not yet told apart
-  // from the run-to-run spread (~0.7 dB).
-  if (densityDecayDue(s.densifyConfig, uint32_t(t)))
-    for (size_t i = 0; i < s.gaussians.count(); i++) {
-      float& l = s.gaussians.at(i)[f32::kGaussLogitDensity];
-      const double p = std::clamp(1.0 / (1.0 + std::exp(-double(l))) * s.config.densityDecay, 1e-6, 1 - 1e-6);
-      l = float(std::log(p / (1.0 - p)));
-    }
+  if (densityDecayDue(s.densifyConfig, uint32_t(t))) densityDecay(s.gaussians, s.densifyConfig);
   if (densityResetDue(s.densifyConfig, uint32_t(t))) {
     densityReset(s.gaussians, s.densifyConfig);
     resetAdamColumns(s.gaussianAdam, "density");
