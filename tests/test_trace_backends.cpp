@@ -42,9 +42,16 @@ GaussianTrace traceOn(Context& ctx, const GaussianSet& set, const std::vector<Gp
   return out;
 }
 
+// A device without ray queries (the H200's driver, 2026-11-27) has one backend and nothing to
+// compare; lavapipe, where CI runs, has both (tests/test_device_selection.cpp requires it).
+void skipWithoutRayQueries(const Context& ctx) {
+  MESSAGE("'" << ctx.caps.name << "' lacks VK_KHR_ray_query: only the compute backend runs here, nothing to compare");
+}
+
 }  // namespace
 
 GPU_TEST_CASE("trace backends: the same Gaussians give the same hits in the same order, bit for bit") {
+  if (!ctx.caps.rayQuery) return skipWithoutRayQueries(ctx);
   auto rq = contextFor(TraceBackend::RayQuery), cs = contextFor(TraceBackend::Compute);
   GaussianSet set = randomGaussians(rng, 1500, test::testGaussianOptions());
   auto rays = test::raysIntoVolume(rng, 2000);
@@ -66,6 +73,7 @@ GPU_TEST_CASE("trace backends: the same Gaussians give the same hits in the same
 }
 
 GPU_TEST_CASE("trace backends: the same water gives the same triangles, t and refracted rays") {
+  if (!ctx.caps.rayQuery) return skipWithoutRayQueries(ctx);
   auto rq = contextFor(TraceBackend::RayQuery), cs = contextFor(TraceBackend::Compute);
   AnalyticWaves waves = randomWaves(rng, 0.1f, 5.0f);
   std::vector<GpuRay> rays = test::raysFromAbove(rng, 3000, 1.1f);
