@@ -113,6 +113,16 @@ note "Refrax GPU check, $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -n), $REFRAX"
 
 # 1. devices
 run 60 devices "$REFRAX" devices
+# NVIDIA's GLX driver answers no vkCreateInstance on a machine with no display (NVIDIA's
+# container toolkit issue 191; the H200 machine, 2026-11-27); its EGL library is the same
+# Vulkan driver for headless use, so offer it through a manifest of our own.
+nvidia_egl() { ldconfig -p 2>/dev/null | grep -q 'libEGL_nvidia\.so\.0' || ls /usr/lib/libEGL_nvidia.so.0 /usr/local/nvidia/lib64/libEGL_nvidia.so.0 >/dev/null 2>&1; }
+if grep -q "no Vulkan driver is installed" "$out/devices.log" && [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && nvidia_egl; then
+  printf '{ "file_format_version": "1.0.1", "ICD": { "library_path": "libEGL_nvidia.so.0", "api_version": "1.4.312" } }\n' > "$out/nvidia_egl_icd.json"
+  export VK_DRIVER_FILES=$out/nvidia_egl_icd.json VK_ICD_FILENAMES=$out/nvidia_egl_icd.json
+  note "driver: NVIDIA's GLX Vulkan driver found no display; using its EGL library ($out/nvidia_egl_icd.json)"
+  run 60 devices "$REFRAX" devices
+fi
 device=$(sed -n '1s/^\[[0-9]*\] //p' "$out/devices.log")
 note "device: ${device:-none found (see devices.log)}"
 backends=()
