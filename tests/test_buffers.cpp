@@ -97,6 +97,23 @@ GPU_TEST_CASE("the staging path (device memory the host cannot map) round-trips 
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdDispatch(cb, p, {bind(xb), bind(yb)}, &push, groupsFor(push.count, 64)); });
   auto y = downloadVector<float>(ctx, yb, x.size());
   for (size_t i = 0; i < x.size(); i++) REQUIRE(y[i] == doctest::Approx(2.0f * x[i] - 1.0f).epsilon(1e-6));
+
+  // Transfers share the context's staging buffer: kept between calls, grown for a larger one,
+  // and a smaller transfer after a larger one reads only its own bytes.
+  REQUIRE(ctx.staging);
+  const VkBuffer kept = ctx.staging->buffer;
+  CHECK(downloadVector<float>(ctx, xb, 16) == std::vector<float>(x.begin(), x.begin() + 16));
+  CHECK(ctx.staging->buffer == kept);
+  std::vector<float> large(1 << 18);
+  for (auto& v : large) v = U(rng);
+  ctx.forceStaging = true;
+  Buffer lb = createBufferFrom(ctx, large);
+  ctx.forceStaging = false;
+  CHECK(ctx.staging->size >= large.size() * 4);
+  CHECK(downloadVector<float>(ctx, lb, large.size()) == large);
+  std::vector<float> tail(8);
+  download(ctx, xb, tail.data(), tail.size() * 4, (x.size() - 8) * 4);
+  CHECK(tail == std::vector<float>(x.end() - 8, x.end()));
 }
 
 GPU_TEST_CASE("GPU timestamps name each stage in order, in milliseconds within the submission's wall time") {

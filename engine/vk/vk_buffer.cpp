@@ -97,6 +97,22 @@ Buffer createBuffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags extraUsa
   return b;
 }
 
+namespace {
+
+// The context's staging buffer, grown to a power of two of at least `bytes`. A training step
+// moves about ten buffers each way; on a discrete GPU each used to allocate its own.
+Buffer& stagingFor(Context& ctx, VkDeviceSize bytes) {
+  if (!ctx.staging || ctx.staging->size < bytes) {
+    ctx.staging.reset();
+    VkDeviceSize size = VkDeviceSize(1) << 16;
+    while (size < bytes) size *= 2;
+    ctx.staging = std::make_unique<Buffer>(createBuffer(ctx, size, 0, MemoryUse::Readback));
+  }
+  return *ctx.staging;
+}
+
+}  // namespace
+
 void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
   if (offset + bytes > dst.size) fail("upload past the end of a buffer");
   if (bytes == 0) return;
@@ -104,7 +120,7 @@ void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkD
     std::memcpy(static_cast<char*>(dst.mapped) + offset, data, bytes);
     return;
   }
-  Buffer staging = createBuffer(ctx, bytes, 0, MemoryUse::Readback);
+  Buffer& staging = stagingFor(ctx, bytes);
   std::memcpy(staging.mapped, data, bytes);
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     VkBufferCopy region{0, offset, bytes};
@@ -119,7 +135,7 @@ void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, V
     std::memcpy(data, static_cast<const char*>(src.mapped) + offset, bytes);
     return;
   }
-  Buffer staging = createBuffer(ctx, bytes, 0, MemoryUse::Readback);
+  Buffer& staging = stagingFor(ctx, bytes);
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(cb, src.buffer, staging.buffer, 1, &region);

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "engine/base/error.h"
+#include "engine/vk/vk_buffer.h"  // ~Context releases the staging Buffer
 
 namespace refrax {
 
@@ -362,6 +363,7 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
 Context::~Context() {
   if (device) {
     vkDeviceWaitIdle(device);
+    staging.reset();  // a Buffer of this device: released before it
     if (fence) vkDestroyFence(device, fence, nullptr);
     if (commandPool) vkDestroyCommandPool(device, commandPool, nullptr);
     vkDestroyDevice(device, nullptr);

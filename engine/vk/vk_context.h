@@ -61,6 +61,7 @@ struct ContextOptions {
 };
 
 struct GpuProfiler;
+struct Buffer;
 
 struct Context {
   VkInstance instance = VK_NULL_HANDLE;
@@ -83,6 +84,9 @@ struct Context {
   bool forceStaging = false;
   // Set while a run is profiled (engine/vk/vk_profile.h): submitAndWait times every submission.
   GpuProfiler* profiler = nullptr;
+  // The host-visible buffer upload and download copy through on a device the host cannot
+  // map (engine/vk/vk_buffer.cpp stagingFor), kept and grown rather than made per call.
+  std::unique_ptr<Buffer> staging;
 
   // Validation messages seen so far (warnings and errors of every type).
   std::atomic<int> validationMessageCount{0};
