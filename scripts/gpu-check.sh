@@ -40,6 +40,9 @@ while [ $# -gt 0 ]; do
   shift
 done
 
+any_exists() { for f in "$@"; do [ -e "$f" ] && return 0; done; return 1; }  # (ls fails if any one is missing)
+drivers_given=${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}  # the user's choice of driver manifests, if any
+
 # ---- where the binaries are: a bundle (bin/ beside this script) or a repository build
 if [ -x "$here/bin/refrax" ]; then
   root=$here
@@ -49,8 +52,7 @@ if [ -x "$here/bin/refrax" ]; then
   export REFRAX_SOURCE_DIR=$root
   [ -d "$root/layers" ] && export VK_LAYER_PATH="$root/layers${VK_LAYER_PATH:+:$VK_LAYER_PATH}"
   # a driver the loader cannot find by itself: its manifest outside the standard folders
-  if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] &&
-     ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json /usr/local/share/vulkan/icd.d/*.json >/dev/null 2>&1; then
+  if [ -z "$drivers_given" ] && ! any_exists /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json /usr/local/share/vulkan/icd.d/*.json; then
     manifests=$(ls /usr/local/*/share/vulkan/icd.d/*.json /opt/*/share/vulkan/icd.d/*.json 2>/dev/null | paste -sd:)
     [ -n "$manifests" ] && export VK_DRIVER_FILES=$manifests VK_ICD_FILENAMES=$manifests
   fi
@@ -116,8 +118,12 @@ run 60 devices "$REFRAX" devices
 # NVIDIA's GLX driver answers no vkCreateInstance on a machine with no display (NVIDIA's
 # container toolkit issue 191; the H200 machine, 2026-11-27); its EGL library is the same
 # Vulkan driver for headless use, so offer it through a manifest of our own.
-nvidia_egl() { ldconfig -p 2>/dev/null | grep -q 'libEGL_nvidia\.so\.0' || ls /usr/lib/libEGL_nvidia.so.0 /usr/local/nvidia/lib64/libEGL_nvidia.so.0 >/dev/null 2>&1; }
-if grep -q "no Vulkan driver is installed" "$out/devices.log" && [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && nvidia_egl; then
+nvidia_egl() {
+  local dirs=/usr/lib:/usr/lib/x86_64-linux-gnu:/usr/local/nvidia/lib64:${LD_LIBRARY_PATH:-} dir
+  for dir in ${dirs//:/ }; do [ -e "$dir/libEGL_nvidia.so.0" ] && return 0; done
+  return 1
+}
+if grep -q "no Vulkan driver is installed" "$out/devices.log" && [ -z "$drivers_given" ] && nvidia_egl; then
   printf '{ "file_format_version": "1.0.1", "ICD": { "library_path": "libEGL_nvidia.so.0", "api_version": "1.4.312" } }\n' > "$out/nvidia_egl_icd.json"
   export VK_DRIVER_FILES=$out/nvidia_egl_icd.json VK_ICD_FILENAMES=$out/nvidia_egl_icd.json
   note "driver: NVIDIA's GLX Vulkan driver found no display; using its EGL library ($out/nvidia_egl_icd.json)"
