@@ -7,7 +7,8 @@
 // (densityDecay/densityReset) at the steps densityDecayDue/densityResetDue name.
 //
 //   clone  a Gaussian whose mean statistic (sum of |dL/dmean| * distance / 2 over the rays
-//          that blended it, divided by their number) is >= gradThreshold and whose largest
+//          that blended it, divided by their number; the trainer scales dL/dmean by
+//          densifyStatScale) is >= gradThreshold and whose largest
 //          sigma is <= percentDense * sceneExtent: an exact copy is appended.
 //   split  the same statistic, larger sigma: the Gaussian is replaced by 2 children with
 //          means drawn from the parent's distribution N(mean, R S^2 R^T), sigmas / 1.6 and
@@ -52,6 +53,13 @@ struct DensifyConfig {
   // a Gaussian the optimiser drove toward zero stays where Adam can bring it back.
   float decayFloor = 0.0f;
 };
+// The factor the trainer applies to a step's gradient statistic: the loss is the mean over the
+// batch's rays, so |dL/dmean| per ray falls as 1/rays, and a threshold that densifies 32 x 32
+// patches (1,024 rays, where 3e-4 was set) would starve 128 x 128 patches (16x smaller) and
+// whole 392 x 392 images (150x); docs/experiments/2026-11-27-dry-fit-patches.md. Scaled by
+// rays / 1,024, the statistic reads as on a 32 x 32 patch for any batch.
+inline float densifyStatScale(uint32_t batchRays) { return float(batchRays) / 1024.0f; }
+
 // Throws refrax::Error for non-positive extent, intervals or divisor, or thresholds out of range.
 void validateDensifyConfig(const DensifyConfig& config);
 

@@ -500,14 +500,20 @@ void cmdDensityLoss(VkCommandBuffer cb, TrainSession& s) {
 
 // The Gaussians' step after the backward (whose gradient holds the density regulariser's,
 // cmdDensityLoss): Adam and the density schedule (host). Returns the regulariser's value.
-double gaussianStep(TrainSession& s, int t) {
+// The batch's rays scale the densification statistic (densifyStatScale): the loss is a mean
+// over the batch, so each ray's gradient shrinks as the batch grows.
+double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
   Context& ctx = *s.ctx;
   const TrainConfig& c = s.config;
   std::vector<float> grads = downloadVector<float>(ctx, s.grads, s.gaussians.params.size());
   std::vector<float> stats = downloadVector<float>(ctx, s.stats, s.gaussians.count() * 2);
   const double densityLoss = c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.densityResult, 4)[0] : 0.0;
   HostStage h(ctx, "gaussian adam (host)");
-  for (size_t i = 0; i < stats.size(); i++) s.densifyStats[i] += stats[i];
+  const float statScale = densifyStatScale(batchRays);
+  for (size_t i = 0; i < stats.size(); i += 2) {
+    s.densifyStats[i] += stats[i] * statScale;  // the gradient statistic
+    s.densifyStats[i + 1] += stats[i + 1];      // the count of rays
+  }
   tableAdamStep(s.gaussianAdam, s.gaussians.params, grads);
   applyDensitySchedule(s, t);
   return densityLoss;
@@ -580,7 +586,7 @@ StepResult trainStep(TrainSession& s) {
     priorEnergy = s.priorEnergy;
   }
   if (surfaceStepAt(s, t)) surfaceStep(s, t);
-  const double densityLoss = gaussianStep(s, t);
+  const double densityLoss = gaussianStep(s, t, batch.rays());
   const bool countChanged = densifyStep(s, t);
   r.restarted = restartStep(s, t);
   {
