@@ -638,6 +638,35 @@ TEST_CASE("train: bad datasets give one clear error and leave no run folder" * d
 
 namespace refrax {
 
+// The densification statistic per ray (sum over rays / their count) from `steps` steps of
+// `patch` x `patch` batches (0: whole images), before any densification or Adam step moves
+// the Gaussians apart.
+double meanDensifyStatistic(Context& ctx, const std::string& data, uint32_t patch, int steps) {
+  Dataset d;
+  TrainConfig c = test::sessionConfig(data, 40, 500, patch, 7, d);
+  c.densify = false;
+  auto s = createTrainSession(ctx, c, d);
+  for (int step = 0; step < steps; step++) trainStep(*s);
+  double sum = 0, rays = 0;
+  for (size_t i = 0; i < s->gaussians.count(); i++) {
+    sum += s->densifyStats[2 * i];
+    rays += s->densifyStats[2 * i + 1];
+  }
+  REQUIRE(rays > 0);
+  return sum / rays;
+}
+
+// The loss is a mean over the batch, so each ray's gradient falls as the batch grows; the
+// trainer scales the statistic back (densifyStatScale) so that one threshold densifies
+// patches and whole images alike. Unscaled, whole 64 x 64 images read 16x under 16 x 16 patches.
+GPU_TEST_CASE("train: the densification statistic reads alike for small patches and whole images") {
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  const double patches = meanDensifyStatistic(ctx, data, 16, 16), whole = meanDensifyStatistic(ctx, data, 0, 1);
+  MESSAGE("per-ray statistic: 16 x 16 patches " << patches << ", whole images " << whole);
+  CHECK(whole / patches >= 0.5);
+  CHECK(whole / patches <= 2.0);
+}
+
 GPU_TEST_CASE("train: a step's loss holds the density regulariser of the table it traced") {
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset d;
