@@ -45,8 +45,14 @@ TEST_CASE("vector Snell obeys the scalar law and coplanarity up to grazing (f64 
     worstPlane = std::max(worstPlane, std::abs(glm::dot(w, glm::cross(d, n))));
     REQUIRE(std::abs(glm::length(w) - 1) < 1e-12);
     REQUIRE(glm::dot(w, n) < 0);  // into the water
-    glm::vec3 w32 = f32::snellRefract(glm::vec3(d), glm::vec3(n), float(eta));
-    worst32 = std::max(worst32, glm::length(glm::dvec3(w32) - w));
+    // The float version against the double one at the same, float-rounded, inputs: near
+    // grazing with an IOR near 1 the refracted ray itself turns by about 1e-5 for a rounding
+    // of eta (cos theta_t ~ sqrt(1 - eta^2) is small), which is not the float code's error.
+    const glm::vec3 d32(d), n32(n);
+    const float eta32 = float(eta);
+    glm::vec3 w32 = f32::snellRefract(d32, n32, eta32);
+    dvec3 wAtFloatInputs = f64::snellRefract(dvec3(d32), dvec3(n32), double(eta32));
+    worst32 = std::max(worst32, glm::length(glm::dvec3(w32) - wAtFloatInputs));
   }
   CHECK(worst64 < 1e-12);
   CHECK(worstPlane < 1e-12);
