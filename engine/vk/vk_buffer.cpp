@@ -68,7 +68,10 @@ Buffer createBuffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags extraUsa
 
   int type = -1;
   if (use == MemoryUse::Readback) {
-    type = findMemoryType(ctx, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    // Coherent only: nothing flushes or invalidates a mapping, and the context's staging buffer
+    // is reused, so a non-coherent cached type could hand a download stale cache lines.
+    type = findMemoryType(ctx, req.memoryTypeBits,
+                          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     if (type < 0) type = findMemoryType(ctx, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
   } else {
     // Shared memory (lavapipe, integrated GPUs): device-local and host-visible at once, so no staging.
