@@ -644,8 +644,8 @@ TEST_CASE("train: bad datasets give one clear error and leave no run folder" * d
 namespace refrax {
 
 // The densification statistic per ray (sum over rays / their count) from `steps` steps of
-// `patch` x `patch` batches (0: whole images), before any densification or Adam step moves
-// the Gaussians apart.
+// `patch` x `patch` batches (0: whole images), densification off: the same Gaussians, moved
+// only by a few Adam steps.
 double meanDensifyStatistic(Context& ctx, const std::string& data, uint32_t patch, int steps) {
   Dataset d;
   TrainConfig c = test::sessionConfig(data, 40, 500, patch, 7, d);
