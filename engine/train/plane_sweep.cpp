@@ -118,6 +118,7 @@ DepthMap planeSweepDepth(const std::vector<SweepView>& views, PlaneSweepConfig c
 
   map.z.assign(cells, std::numeric_limits<double>::quiet_NaN());
   map.rgb.assign(cells * 3, 0.0f);
+  map.bestCost.assign(cells, std::numeric_limits<double>::quiet_NaN());
   std::vector<double> finite;
   for (size_t cell = 0; cell < cells; cell++) {
     const double* cc = &cost[cell * P];
@@ -126,6 +127,7 @@ DepthMap planeSweepDepth(const std::vector<SweepView>& views, PlaneSweepConfig c
       if (cc[k] < inf) finite.push_back(cc[k]);
     if (finite.size() < P / 2) continue;  // seen on too few of the planes to compare them
     size_t best = size_t(std::min_element(cc, cc + P) - cc);
+    map.bestCost[cell] = cc[best];
     std::nth_element(finite.begin(), finite.begin() + finite.size() / 2, finite.end());
     double median = finite[finite.size() / 2];
     if (!(cc[best] < c.confidence * median)) continue;
@@ -138,6 +140,23 @@ DepthMap planeSweepDepth(const std::vector<SweepView>& views, PlaneSweepConfig c
     for (int ch = 0; ch < 3; ch++) map.rgb[cell * 3 + ch] = colour[(cell * P + best) * 3 + ch];
   }
   return map;
+}
+
+SweepAgreement compareSweepCosts(const DepthMap& tested, const DepthMap& reference) {
+  if (tested.bestCost.size() != reference.bestCost.size() || tested.cellsX != reference.cellsX || tested.cellSize != reference.cellSize)
+    fail("plane sweep: the two sweeps' grids differ");
+  SweepAgreement a;
+  for (size_t k = 0; k < tested.bestCost.size(); k++)
+    if (std::isfinite(tested.bestCost[k]) && std::isfinite(reference.bestCost[k])) {
+      a.cost += tested.bestCost[k];
+      a.reference += reference.bestCost[k];
+      a.cells++;
+    }
+  if (a.cells > 0) {
+    a.cost /= double(a.cells);
+    a.reference /= double(a.cells);
+  }
+  return a;
 }
 
 }  // namespace refrax

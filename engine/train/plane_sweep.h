@@ -41,6 +41,10 @@ struct DepthMap {
   double xMin = 0, yMin = 0, cellSize = 0;
   std::vector<double> z;        // per cell, NaN where no depth was found
   std::vector<float> rgb;       // per cell, the views' mean colour at that depth
+  // Per cell, the least windowed variance of the views' colours over the planes (how well the
+  // views agree there at their best depth), kept with or without a confident depth; NaN where
+  // too few planes saw the cell to compare them.
+  std::vector<double> bestCost;
   // The cell holding (x, y), or -1 outside the grid.
   long cellAt(double x, double y) const;
 };
@@ -50,5 +54,15 @@ struct DepthMap {
 double sweepCellSize(const std::vector<SweepView>& views, double z);
 
 DepthMap planeSweepDepth(const std::vector<SweepView>& views, PlaneSweepConfig config);
+
+// How well the views agree through one water against another (the same views and sweep grid):
+// the mean bestCost of each over the cells where both have one. Why: with no ground truth, a
+// surface that explains the views worse than the flat start (the views' colours of the scene
+// under it disagree more) is wrong, however low the training loss the Gaussians reach through it.
+struct SweepAgreement {
+  double cost = 0, reference = 0;  // mean bestCost of the water tested, of the reference water
+  size_t cells = 0;                // cells compared
+};
+SweepAgreement compareSweepCosts(const DepthMap& tested, const DepthMap& reference);
 
 }  // namespace refrax
