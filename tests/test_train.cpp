@@ -71,6 +71,12 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
   CHECK(c.refraction["gaussians"].get<uint64_t>() == readGaussiansPly(c.dir / "refraction/point_cloud.ply").count());
   CHECK(c.refraction.contains("water_removal_psnr"));
   CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
+  // The learned water's checks (docs/training.md, "Is the learned water right?"): only where water is learned.
+  CHECK(c.refraction["surface_agreement"]["ratio"].get<double>() > 0);
+  CHECK(c.refraction["surface_roughening"]["judged"].get<bool>());
+  CHECK(c.refraction["surface_watch"].size() >= 50);
+  CHECK(!c.plain.contains("surface_agreement"));
+  CHECK(!c.plain.contains("surface_watch"));
   NpyArray heights = readNpy(c.dir / "refraction/water_height.npy");
   CHECK(heights.shape == std::vector<size_t>{65, 65});
   // The straight-ray model's Gaussians sit where the water makes the scene appear, so with the
@@ -192,6 +198,24 @@ GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterr
 
   auto whole = createTrainSession(ctx, c, d);
   nlohmann::json a = trainToEnd(*whole, dir / "whole", quiet);
+
+  // The roughening watch (engine/surface/surface_watch.h) samples every step of so short a run
+  // once the surface has stepped, and judges the series; a run resumed from the checkpoint at
+  // step 20 keeps the samples before it (RUN/surface_watch.json) and ends with as many.
+  REQUIRE(a.contains("surface_watch"));
+  CHECK(a["surface_watch"].size() >= 30);
+  CHECK(a["surface_roughening"]["judged"].get<bool>());
+  fs::copy(dir / "whole", dir / "rewound", fs::copy_options::recursive);
+  fs::remove(checkpointPath(dir / "rewound", 40));
+  auto rewound = createTrainSession(ctx, c, d);
+  loadCheckpoint(*rewound, latestCheckpoint(dir / "rewound"));
+  REQUIRE(rewound->step == 20);
+  nlohmann::json again = trainToEnd(*rewound, dir / "rewound", quiet);
+  REQUIRE(again["surface_watch"].size() == a["surface_watch"].size());
+  for (size_t k = 0; k < a["surface_watch"].size(); k++) {
+    CHECK(again["surface_watch"][k]["step"] == a["surface_watch"][k]["step"]);
+    if (a["surface_watch"][k]["step"].get<int>() <= 20) CHECK(again["surface_watch"][k]["loss"] == a["surface_watch"][k]["loss"]);
+  }
 
   auto first = createTrainSession(ctx, c, d);
   while (first->step < 20) trainStep(*first);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 
@@ -55,6 +56,46 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
 namespace {
 
 std::string evaluationsPath(const std::string& runDir) { return (std::filesystem::path(runDir) / "evaluations.json").string(); }
+std::string surfaceWatchPath(const std::string& runDir) { return (std::filesystem::path(runDir) / "surface_watch.json").string(); }
+
+// The learned water is watched for roughening (engine/surface/surface_watch.h) once it learns.
+bool watchesSurface(const TrainSession& s) { return s.config.model == WaterModel::Refraction && s.height && s.surface; }
+
+// About a hundred samples a run, whatever its progress lines.
+int surfaceWatchInterval(const TrainConfig& c) { return std::max(1, c.steps / 100); }
+
+// Above this ratio of plane-sweep costs (learned water over flat) the run warns that its surface
+// may be further from the truth than the flat start. Why 1.02 and not 1: on 24 tiny-preset runs
+// (docs/experiments/2026-11-27-surface-checks.md) every run above 1.02 had ended worse than the
+// flat start (6 of 14 such runs), and no better one read above 1.016.
+constexpr double kAgreementWarning = 1.02;
+
+std::string surfaceAgreementLine(const nlohmann::json& a) {
+  const double ratio = a["ratio"].get<double>();
+  char text[480];
+  if (ratio > kAgreementWarning)
+    std::snprintf(text, sizeof text,
+                  "warning: the training views agree less through the learned water than through the flat start (plane-sweep colour "
+                  "variance %.3gx the flat water's over %zu cells): the surface may be further from the truth than the flat start "
+                  "(docs/training.md, \"Is the learned water right?\")",
+                  ratio, a["cells"].get<size_t>());
+  else
+    std::snprintf(text, sizeof text,
+                  "the training views' plane-sweep colour variance through the learned water is %.3gx the flat start's (over %zu cells; "
+                  "the run warns above %.3gx)",
+                  ratio, a["cells"].get<size_t>(), kAgreementWarning);
+  return text;
+}
+
+// A resumed run's samples up to its checkpoint (kept on disk as they grow, like evaluations).
+std::vector<SurfaceWatchSample> readSurfaceWatch(const std::string& runDir, int upToStep) {
+  std::vector<SurfaceWatchSample> kept;
+  const std::string path = surfaceWatchPath(runDir);
+  if (!fileExists(path)) return kept;
+  for (const SurfaceWatchSample& w : surfaceWatchFromJson(readJson(path), path))
+    if (w.step <= upToStep) kept.push_back(w);
+  return kept;
+}
 
 // One point of the accuracy-against-time curve: the metrics after `step`, and the wall time
 // spent in training steps up to it (evaluations themselves are not counted).
@@ -96,6 +137,21 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
   evaluations.push_back(evaluationPoint(s, m));
   m["evaluations"] = evaluations;
+  if (watchesSurface(s)) {
+    const SweepAgreement a = agreementWithFlatWater(s);
+    if (a.cells > 0 && a.reference > 0)
+    {
+      m["surface_agreement"] = {{"sweep_cost", a.cost}, {"flat_sweep_cost", a.reference}, {"ratio", a.cost / a.reference}, {"cells", a.cells},
+                                {"warned", a.cost / a.reference > kAgreementWarning}};
+      m["surface_sweep_ratio"] = a.cost / a.reference;  // the report's column
+    }
+  }
+  if (!s.surfaceWatch.empty()) {
+    m["surface_watch"] = surfaceWatchJson(s.surfaceWatch);
+    const RougheningVerdict verdict = judgeRoughening(s.surfaceWatch, s.config.schedule.surfaceFreeze + 1);
+    m["surface_roughening"] = rougheningJson(verdict);
+    if (verdict.judged) m["surface_roughened"] = verdict.roughening;  // the report's column
+  }
   if (s.profiler.steps > 0) m["profile"] = profileJson(s.profiler);
   writeJson((dir / "metrics.json").string(), m);
   return m;
@@ -109,6 +165,9 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     if (progress.line) progress.line(text);
   };
   const double startSeconds = s.trainingSeconds;
+  if (watchesSurface(s) && s.surfaceWatch.empty() && s.step > 0) s.surfaceWatch = readSurfaceWatch(runDir, s.step);
+  double watchLoss = 0;  // image loss summed since the last surface sample
+  int watchSteps = 0;
   while (s.step < c.steps) {
     if (progress.timeLimitSeconds > 0 && s.trainingSeconds - startSeconds >= progress.timeLimitSeconds) {
       say("stopping at step " + std::to_string(s.step) + " of " + std::to_string(c.steps) + ": the time limit (" +
@@ -124,6 +183,13 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       std::string how = c.initDepth == "sweep" ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.sweptCellFraction))) + "% of the cells" : "";
       if (c.initPoints) how += ", " + std::to_string(s.gaussiansAtPoints) + " at sparse points";
       say("step " + std::to_string(s.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
+    }
+    watchLoss += r.imageLoss;
+    watchSteps++;
+    if ((s.step % surfaceWatchInterval(c) == 0 || s.step == c.steps) && watchesSurface(s) && s.surfaceShapeMeasured) {
+      s.surfaceWatch.push_back({s.step, watchLoss / watchSteps, s.surfaceShape});
+      watchLoss = 0;
+      watchSteps = 0;
     }
     if (s.step % c.progressEvery == 0 || s.step == c.steps) {
       double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -148,10 +214,16 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       say(line);
     }
     if (checkpoint) saveCheckpoint(s, runDir);
+    if (checkpoint && !s.surfaceWatch.empty()) writeJson(surfaceWatchPath(runDir), surfaceWatchJson(s.surfaceWatch));
   }
   pushWaterGradient(s);
   if (latestCheckpoint(runDir) != checkpointPath(runDir, s.step)) saveCheckpoint(s, runDir);
-  return writeRunOutputs(s, runDir);
+  if (!s.surfaceWatch.empty()) writeJson(surfaceWatchPath(runDir), surfaceWatchJson(s.surfaceWatch));
+  nlohmann::json m = writeRunOutputs(s, runDir);
+  if (m.contains("surface_roughening") && m["surface_roughening"]["judged"].get<bool>())
+    say(std::string(m["surface_roughening"]["roughening"].get<bool>() ? "warning: " : "") + m["surface_roughening"]["text"].get<std::string>());
+  if (m.contains("surface_agreement")) say(surfaceAgreementLine(m["surface_agreement"]));
+  return m;
 }
 
 std::unique_ptr<TrainSession> openRun(Context& ctx, const std::string& runDir, bool requireCheckpoint) {

@@ -1,6 +1,7 @@
 #pragma once
 // A training run on disk: RUN/config.json (the resolved configuration), RUN/checkpoints/,
-// RUN/evaluations.json (with --eval-every),
+// RUN/evaluations.json (with --eval-every), RUN/surface_watch.json (the refraction model's
+// roughening watch, engine/surface/surface_watch.h),
 // and at the end point_cloud.ply, water_height.npy (+ height_field.bin), renders/ and
 // metrics.json. Every file is written atomically; a bad dataset fails before RUN is created.
 #include <functional>

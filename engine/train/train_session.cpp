@@ -103,19 +103,33 @@ void syncGaussians(TrainSession& s, bool countChanged) {
 
 namespace {
 
-// Every training view's rays, one per pixel, as they leave the current water (straight for
-// --no-refraction), for the plane sweep.
-std::vector<SweepView> sweepViews(TrainSession& s) {
+// Every training view's rays, one per pixel, as they leave the water as the surface is lifted
+// now (straight for --no-refraction), for the plane sweep; `heights` is the source the surface
+// was lifted from (its subdivision evaluates it).
+std::vector<SweepView> sweepViews(TrainSession& s, const HeightSource& heights) {
   std::vector<SweepView> views;
   pushWaterGradient(s);  // whole images may not fit the surface's point cache beside the batch's points
   for (const View& v : s.dataset.split("train")) {
     uint32_t n = uint32_t(v.camera.width * v.camera.height);
     ensureRayCapacity(s, n);
     submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.rayPipelines, v.camera, s.rays, 0.0f, 1e6f); });
-    if (s.surface) traceSurface(*s.ctx, *s.surface, currentHeightSource(s), s.rays, n, s.refracted, s.records);
+    if (s.surface) traceSurface(*s.ctx, *s.surface, heights, s.rays, n, s.refracted, s.records);
     views.push_back({downloadVector<GpuRay>(*s.ctx, s.surface ? s.refracted : s.rays, n), &v.image});
   }
   return views;
+}
+std::vector<SweepView> sweepViews(TrainSession& s) { return s.surface ? sweepViews(s, currentHeightSource(s)) : sweepViews(s, HeightSource{}); }
+
+// The plane sweep over the Gaussians' box.
+PlaneSweepConfig boxSweepConfig(const TrainConfig& c) {
+  PlaneSweepConfig pc;
+  pc.xMin = c.boxMin[0];
+  pc.yMin = c.boxMin[1];
+  pc.zMin = c.boxMin[2];
+  pc.xMax = c.boxMax[0];
+  pc.yMax = c.boxMax[1];
+  pc.zMax = c.boxMax[2];
+  return pc;
 }
 
 // The Gaussians drawn uniformly in the box, with fresh Adam moments, learning-rate schedules
@@ -138,14 +152,7 @@ void drawGaussians(TrainSession& s) {
   if (rest == 0) {
     s.gaussians = std::move(atPoints);
   } else if (c.initDepth == "sweep") {
-    PlaneSweepConfig pc;
-    pc.xMin = c.boxMin[0];
-    pc.yMin = c.boxMin[1];
-    pc.zMin = c.boxMin[2];
-    pc.xMax = c.boxMax[0];
-    pc.yMax = c.boxMax[1];
-    pc.zMax = c.boxMax[2];
-    DepthMap depth = planeSweepDepth(sweepViews(s), pc);
+    DepthMap depth = planeSweepDepth(sweepViews(s), boxSweepConfig(c));
     size_t known = 0;
     for (double z : depth.z) known += std::isfinite(z) ? 1 : 0;
     s.sweptCellFraction = double(known) / double(std::max<size_t>(1, depth.z.size()));
@@ -266,10 +273,9 @@ void anchorMeanHeight(TrainSession& s) {
 
 namespace {
 
-// The priors (--surface-smoothness, --level-prior) of the surface as lifted now: their energy
-// and dE/dheight at the coarse grid's vertices, kept in the session until the heights change.
-void computeSurfacePrior(TrainSession& s) {
-  WaterSurface& ws = *s.surface;
+// Where the surface's coarse grid vertices lie in its gridHeights.
+GridLayout coarseGridLayout(const TrainSession& s) {
+  const WaterSurface& ws = *s.surface;
   const Rect& d = s.config.domain;
   GridLayout g;
   g.cellsX = ws.cellsX;
@@ -278,6 +284,14 @@ void computeSurfacePrior(TrainSession& s) {
   g.first = g.rowLength + 1;
   g.spacingX = (d.xMax - d.xMin) / ws.cellsX;
   g.spacingY = (d.yMax - d.yMin) / ws.cellsY;
+  return g;
+}
+
+// The priors (--surface-smoothness, --level-prior) of the surface as lifted now: their energy
+// and dE/dheight at the coarse grid's vertices, kept in the session until the heights change.
+void computeSurfacePrior(TrainSession& s) {
+  WaterSurface& ws = *s.surface;
+  const GridLayout g = coarseGridLayout(s);
   std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
   s.priorGrad.assign(heights.size(), 0.0f);
   s.priorEnergy = 0;
@@ -445,7 +459,11 @@ void requireSurfaceInScene(TrainSession& s, int t) {
   double lowestCamera = INFINITY;
   for (const View& v : s.dataset.split("train")) lowestCamera = std::min(lowestCamera, v.camera.position().z);
   const double bottom = s.config.boxMin[2];
-  if (finite && low > bottom && high < lowestCamera) return;
+  if (finite && low > bottom && high < lowestCamera) {
+    s.surfaceShape = measureSurfaceShape(heights, coarseGridLayout(s), weights);
+    s.surfaceShapeMeasured = true;
+    return;
+  }
   char text[512];
   std::snprintf(text, sizeof text,
                 "the water surface diverged at step %d: the heights the training views see run from %.3g to %.3g m%s, outside the scene "
@@ -554,6 +572,23 @@ bool restartStep(TrainSession& s, int t) {
 }
 
 }  // namespace
+
+SweepAgreement agreementWithFlatWater(TrainSession& s) {
+  if (!s.surface) fail("agreementWithFlatWater: the model has no water");
+  PlaneSweepConfig pc = boxSweepConfig(s.config);
+  AnalyticWaves level;
+  level.base = float(s.config.waterHeight);
+  AnalyticHeightField flat = createAnalyticHeightField(*s.ctx, level);
+  pushWaterGradient(s);
+  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, heightSource(flat)); });
+  std::vector<SweepView> flatViews = sweepViews(s, heightSource(flat));
+  liftSurface(s);  // the learned water again
+  // One grid for both: the flat water's cell size.
+  pc.cellSize = sweepCellSize(flatViews, 0.5 * (pc.zMin + pc.zMax));
+  DepthMap reference = planeSweepDepth(flatViews, pc);
+  flatViews.clear();
+  return compareSweepCosts(planeSweepDepth(sweepViews(s), pc), reference);
+}
 
 void pushWaterGradient(TrainSession& s) {
   if (!s.surface || !s.surface->gradientPending) return;

@@ -31,8 +31,10 @@
 #include "engine/height/height_field.h"
 #include "engine/loss/image_loss.h"
 #include "engine/optim/table_adam.h"
+#include "engine/train/plane_sweep.h"
 #include "engine/train/train_config.h"
 #include "engine/vk/vk_profile.h"
+#include "engine/surface/surface_watch.h"
 #include "engine/surface/water_surface.h"
 #include "engine/model/model.h"
 
@@ -90,6 +92,13 @@ struct TrainSession : Model {
   std::vector<double> anchorWeights;
   DensifyConfig densifyConfig;
   DensifyStats lastDensify;
+
+  // The learned water's shape over the seen water as of its last surface step (measured by the
+  // divergence check, which reads the heights anyway), and the run's series of it with the
+  // mean training loss (engine/surface/surface_watch.h; trainToEnd samples it).
+  SurfaceShape surfaceShape;
+  bool surfaceShapeMeasured = false;
+  std::vector<SurfaceWatchSample> surfaceWatch;
 
   std::mt19937 rng;
   std::vector<uint32_t> viewOrder;  // a shuffled pass over the training views
@@ -156,6 +165,12 @@ void allocateGaussianBuffers(TrainSession& session);
 // Makes room for `rays` rays per pass, in the model's and the batch's buffers (a whole image
 // for the plane sweep); the surface's pending gradient is pushed first.
 void ensureRayCapacity(TrainSession& session, uint32_t rays);
+
+// How well the training views agree through the learned water against the flat water at the
+// water height (plane sweeps over the Gaussians' box, engine/train/plane_sweep.h): a
+// ground-truth-free check that the surface explains the views better than its flat start.
+// The surface is lifted back from the session's height source.
+SweepAgreement agreementWithFlatWater(TrainSession& session);
 
 // anchorMeanHeight (engine/model/model.h) over the training views.
 void anchorMeanHeight(TrainSession& session);
