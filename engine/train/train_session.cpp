@@ -14,6 +14,7 @@
 #include "engine/train/init_gaussians.h"
 #include "engine/vk/strided_copy.h"
 #include "engine/train/plane_sweep.h"
+#include "engine/train/train_views.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
 #include "engine/vk/vk_profile.h"
@@ -106,10 +107,13 @@ namespace {
 // Every training view's rays, one per pixel, as they leave the water as the surface is lifted
 // now (straight for --no-refraction), for the plane sweep; `heights` is the source the surface
 // was lifted from (its subdivision evaluates it).
-std::vector<SweepView> sweepViews(TrainSession& s, const HeightSource& heights) {
+// `maxViews` > 0: only that many, spread evenly over the training views (spreadViewIndices).
+std::vector<SweepView> sweepViews(TrainSession& s, const HeightSource& heights, size_t maxViews = 0) {
   std::vector<SweepView> views;
   pushWaterGradient(s);  // whole images may not fit the surface's point cache beside the batch's points
-  for (const View& v : s.dataset.split("train")) {
+  const std::vector<View>& train = s.dataset.split("train");
+  for (size_t k : spreadViewIndices(train.size(), maxViews > 0 ? std::min(maxViews, train.size()) : train.size())) {
+    const View& v = train[k];
     uint32_t n = uint32_t(v.camera.width * v.camera.height);
     ensureRayCapacity(s, n);
     submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.rayPipelines, v.camera, s.rays, 0.0f, 1e6f); });
@@ -575,19 +579,22 @@ bool restartStep(TrainSession& s, int t) {
 
 SweepAgreement agreementWithFlatWater(TrainSession& s) {
   if (!s.surface) fail("agreementWithFlatWater: the model has no water");
+  // The sweep's time grows with views x pixels x planes: a capture of a hundred views checks
+  // through twelve of them (the synthetic rigs have 8 and 24).
+  constexpr size_t kMaxViews = 12;
   PlaneSweepConfig pc = boxSweepConfig(s.config);
   AnalyticWaves level;
   level.base = float(s.config.waterHeight);
   AnalyticHeightField flat = createAnalyticHeightField(*s.ctx, level);
   pushWaterGradient(s);
   submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, heightSource(flat)); });
-  std::vector<SweepView> flatViews = sweepViews(s, heightSource(flat));
+  std::vector<SweepView> flatViews = sweepViews(s, heightSource(flat), kMaxViews);
   liftSurface(s);  // the learned water again
   // One grid for both: the flat water's cell size.
   pc.cellSize = sweepCellSize(flatViews, 0.5 * (pc.zMin + pc.zMax));
   DepthMap reference = planeSweepDepth(flatViews, pc);
   flatViews.clear();
-  return compareSweepCosts(planeSweepDepth(sweepViews(s), pc), reference);
+  return compareSweepCosts(planeSweepDepth(sweepViews(s, currentHeightSource(s), kMaxViews), pc), reference);
 }
 
 void pushWaterGradient(TrainSession& s) {
