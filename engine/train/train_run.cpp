@@ -140,11 +140,11 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   m["evaluations"] = evaluations;
   if (watchesSurface(s)) {
     const SweepAgreement a = agreementWithFlatWater(s);
-    if (a.cells > 0 && a.reference > 0)
-    {
-      m["surface_agreement"] = {{"sweep_cost", a.cost}, {"flat_sweep_cost", a.reference}, {"ratio", a.cost / a.reference}, {"cells", a.cells},
-                                {"warned", a.cost / a.reference > kAgreementWarning}};
-      m["surface_sweep_ratio"] = a.cost / a.reference;  // the report's column
+    if (a.cells > 0 && a.reference > 0) {
+      const double ratio = a.cost / a.reference;
+      m["surface_agreement"] = {{"sweep_cost", a.cost}, {"flat_sweep_cost", a.reference}, {"ratio", ratio}, {"cells", a.cells},
+                                {"warned", ratio > kAgreementWarning}};
+      m["surface_sweep_ratio"] = ratio;  // the report's column
     }
   }
   if (!s.surfaceWatch.empty()) {
