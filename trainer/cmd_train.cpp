@@ -15,6 +15,7 @@
 #include "engine/gaussian/gaussian_trace.h"
 #include "engine/io/json_io.h"
 #include "engine/train/checkpoint.h"
+#include "engine/train/model_sizing.h"
 #include "engine/train/train_options.h"
 #include "engine/train/train_run.h"
 #include "engine/train/train_views.h"
@@ -41,12 +42,30 @@ TrainConfig configFromArgs(const cli::Args& a) {
     const std::string name = "--" + o.flag;
     o.set(c, o.parse(a.get(o.flag), name), name);
   }
-  applyDerivedDefaults(c, [&](const std::string& key) {
+  auto given = [&](const std::string& key) {
     for (const TrainOption& o : trainOptionTable())
       if (o.key == key) return !o.flag.empty() && a.has(o.flag);
     return false;
-  });
+  };
+  applyDerivedDefaults(c, given);
+  for (const std::string& key : sizedConfigKeys())
+    if (!given(key)) c.sizeFromData.insert(key);
   return c;
+}
+
+// "model size from the data: --mlp-octaves 6 (why)" for each value the data chose.
+void printModelSizing(const TrainConfig& c) {
+  if (c.modelSizing.is_null()) return;
+  const nlohmann::json& derived = c.modelSizing["derived"];
+  for (const std::string& key : sizedConfigKeys()) {
+    if (!derived.contains(key)) continue;
+    const nlohmann::json& choice = derived[key];
+    std::string flag = key;
+    for (const TrainOption& o : trainOptionTable())
+      if (o.key == key) flag = o.flag;
+    std::fprintf(stderr, "model size from the data: --%s %.0f (%s)\n", flag.c_str(), choice["value"].get<double>(),
+                 choice["reason"].get<std::string>().c_str());
+  }
 }
 
 // What --resume accepts besides the run: how far it goes, how it reports, and the device.
@@ -141,6 +160,7 @@ int runTrain(const cli::Args& args) {
   auto session = createTrainSession(*ctx, config, std::move(dataset));
   folder->keep();
   writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->config));
+  printModelSizing(config);  // once everything is checked: a refused run prints one line
   const std::string atPoints = config.initPoints ? " (" + std::to_string(session->gaussiansAtPoints) + " at sparse points)" : "";
   std::fprintf(stderr, "training %s (%s): %u Gaussians%s, %d steps, %zu training views -> %s\n", config.dataset.c_str(),
                waterModelName(config.model), config.initialGaussians, atPoints.c_str(), config.steps, session->dataset.split("train").size(),

@@ -140,6 +140,7 @@ nlohmann::json trainConfigToJson(const TrainConfig& c) {
   j["domain"] = {c.domain.xMin, c.domain.yMin, c.domain.xMax, c.domain.yMax};
   j["box_min"] = {c.boxMin[0], c.boxMin[1], c.boxMin[2]};
   j["box_max"] = {c.boxMax[0], c.boxMax[1], c.boxMax[2]};
+  if (!c.modelSizing.is_null()) j["model_sizing"] = c.modelSizing;
   for (const TrainOption& o : trainOptionTable()) {
     if (o.key.empty()) continue;
     size_t slash = o.key.find('/');
@@ -177,6 +178,10 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
     for (int a = 0; a < 3; a++) {
       c.boxMin[a] = j.at("box_min").at(a).get<double>();
       c.boxMax[a] = j.at("box_max").at(a).get<double>();
+    }
+    if (j.contains("model_sizing")) {
+      if (!j["model_sizing"].is_object()) fail(where + ": \"model_sizing\" is not an object");
+      c.modelSizing = j["model_sizing"];
     }
   } catch (const nlohmann::json::exception& e) {
     fail(where + ": not a training configuration (" + e.what() + ")");

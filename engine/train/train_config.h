@@ -6,6 +6,7 @@
 // through the same phases (surface frozen, face normals, SH degrees, density resets).
 #include <cstdint>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -125,6 +126,13 @@ struct TrainConfig {
   // Training views used (number-of-views sweeps): 0 all of them, N an even spread of N
   // (engine/train/train_views.h), applied wherever the run's dataset is loaded.
   uint32_t trainViews = 0;
+
+  // The model's size from the data (engine/train/model_sizing.h): the config keys the command line
+  // left to it (the sized options it was not given); resolveSceneConfig derives them, records the
+  // choices and reasons in modelSizing (config.json "model_sizing"; null: nothing derived) and
+  // empties the set. A config built in code sizes nothing unless it names keys here.
+  std::set<std::string> sizeFromData;
+  nlohmann::json modelSizing;
 
   // Logging and files.
   int progressEvery = 50, evalEvery = 0, checkpointEvery = 500;

@@ -194,8 +194,9 @@ std::vector<TrainOption> makeTable() {
                                                 1, 10000000))));
   t.push_back(required(integer<uint64_t>("seed", "seed", "S", "random seed (initial Gaussians, height field, view order, patches)",
                                          field(&TrainConfig::seed), 0, LLONG_MAX)));
-  t.push_back(required(integer<uint32_t>("gaussians", "initial_gaussians", "N", "initial Gaussians, uniform in the box derived under the water",
-                                         field(&TrainConfig::initialGaussians), 1, 50000000)));
+  t.push_back(shown(required(integer<uint32_t>("gaussians", "initial_gaussians", "N", "initial Gaussians, uniform in the box derived under the water",
+                                               field(&TrainConfig::initialGaussians), 1, 50000000)),
+                    "from the data: one per 64 pixels of a training image"));
   t.push_back(choice("init-depth", "init_depth", "KIND",
                      "the initial (and restarted) Gaussians' depth: box (uniform in the box, the reference) or sweep (a plane sweep of the "
                      "training views through the current water; docs/training.md)",
@@ -207,7 +208,7 @@ std::vector<TrainOption> makeTable() {
                            field(&TrainConfig::initPoints), true));
   t.push_back(shown(required(integer<uint32_t>("max-gaussians", "max_gaussians", "N", "cap on the Gaussian count (enforced by densification)",
                                                field(&TrainConfig::maxGaussians), 1, 100000000)),
-                    "max(1000000, --gaussians)"));
+                    "from the data: 8 x the initial count (at least --gaussians)"));
   t.push_back(required(real("initial-density", "initial_density", "X", "initial Gaussian density", field(&TrainConfig::initialDensity), 0,
                             true, 1, true)));
   t.push_back(required(integer<uint32_t>("sh-degree", "max_sh_degree", "D", "highest SH degree (reached one degree per --sh-interval steps)",
@@ -221,8 +222,8 @@ std::vector<TrainOption> makeTable() {
   t.push_back(required(integer<uint32_t>("mlp-width", "mlp_width", "W", "height-field MLP width", field(&TrainConfig::mlpWidth), 1, 256)));
   t.push_back(required(integer<uint32_t>("mlp-layers", "mlp_hidden_layers", "L", "height-field MLP hidden layers",
                                          field(&TrainConfig::mlpHiddenLayers), 1, 8)));
-  t.push_back(required(integer<uint32_t>("mlp-octaves", "mlp_octaves", "O", "height-field frequency-encoding octaves",
-                                         field(&TrainConfig::mlpOctaves), 0, 16)));
+  t.push_back(shown(required(integer<uint32_t>("mlp-octaves", "mlp_octaves", "O", "height-field frequency-encoding octaves",
+                                         field(&TrainConfig::mlpOctaves), 0, 16)), "from the data: the finest period about 22 pixels on the water"));
   t.push_back(shown(integer<uint32_t>("mlp-coarse-octaves", "mlp_coarse_octaves", "C",
                                       "coarse-to-fine: octaves open while the surface is frozen, the rest open gradually until "
                                       "--octaves-open-until (>= O: all from the start)",
@@ -234,10 +235,10 @@ std::vector<TrainOption> makeTable() {
                          "surface learning rate at step 0 (MLP weights, or the flat height), decaying to X/100 (reference 5e-4)",
                          field(&TrainConfig::surfaceLearningRate), 0, true, 1, true),
                     "5e-4"));
-  t.push_back(required(integer<uint32_t>("grid-cells", "grid_cells", "N", "water-surface proxy mesh cells per side",
-                                         field(&TrainConfig::gridCells), 1, 4096)));
-  t.push_back(required(integer<uint32_t>("subdivision", "subdivision_levels", "K", "recursive subdivision levels of the surface trace",
-                                         field(&TrainConfig::subdivisionLevels), 0, 6)));
+  t.push_back(shown(required(integer<uint32_t>("grid-cells", "grid_cells", "N", "water-surface proxy mesh cells per side",
+                                         field(&TrainConfig::gridCells), 1, 4096)), "from the data: 2^octaves"));
+  t.push_back(shown(required(integer<uint32_t>("subdivision", "subdivision_levels", "K", "recursive subdivision levels of the surface trace",
+                                         field(&TrainConfig::subdivisionLevels), 0, 6)), "from the data: finest triangles about 2 pixels on the water"));
   {
     TrainOption v = integer<uint32_t>("train-views", "train_views", "N",
                                       "train on N of the training views, spread evenly in file order (first and last included); the test "

@@ -15,6 +15,7 @@
 #include "engine/io/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/init_gaussians.h"
+#include "engine/train/model_sizing.h"
 #include "engine/model/render_model.h"
 #include "engine/train/train_views.h"
 #include "engine/vk/vk_commands.h"
@@ -44,6 +45,7 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
     fail("--init-points: " + d.root + " has no sparse points under the water (" + std::to_string(d.points.size()) +
          " points; only COLMAP models carry them)");
   c.extent = sceneExtent(cams);
+  applyModelSizing(c, cams);  // after the domain: the sizing reads what the views see of it
   for (const Camera& cam : cams)
     if (c.patch > 0 && (int(c.patch) > cam.width || int(c.patch) > cam.height))
       fail("--patch " + std::to_string(c.patch) + " is larger than the " + std::to_string(cam.width) + " x " + std::to_string(cam.height) +
