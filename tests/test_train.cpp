@@ -78,7 +78,8 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
   CHECK(!c.plain.contains("surface_agreement"));
   CHECK(!c.plain.contains("surface_watch"));
   NpyArray heights = readNpy(c.dir / "refraction/water_height.npy");
-  CHECK(heights.shape == std::vector<size_t>{65, 65});
+  const size_t vertices = readJson(c.dir / "refraction/config.json")["grid_cells"].get<size_t>() + 1;  // the grid the data sized
+  CHECK(heights.shape == std::vector<size_t>{vertices, vertices});
   // The straight-ray model's Gaussians sit where the water makes the scene appear, so with the
   // water removed the refraction model must see the scene at least as well. Measured over six
   // runs (lavapipe): refraction ahead by 0.03 to 0.35 dB; with the refraction planted wrong
@@ -559,7 +560,8 @@ TEST_CASE("train: the height encoding opens coarse to fine between the surface f
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   test::trainAndReadMetrics(data, dir / "run",
-                            " --steps 4 --mlp-coarse-octaves 3 --surface-freeze 0 --octaves-open-until 100 --gaussians 200 --patch 16 --checkpoint-every 0 "
+                            " --steps 4 --mlp-octaves 6 --mlp-coarse-octaves 3 --surface-freeze 0 --octaves-open-until 100 --gaussians 200 --patch 16 "
+                            "--checkpoint-every 0 "
                             "--mlp-width 16 --mlp-layers 2");
   Context& ctx = test::context();
   HeightField hf = loadHeightField(ctx, dir / "run/height_field.bin");
