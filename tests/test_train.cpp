@@ -33,7 +33,8 @@ namespace {
 using test::TrainTempDir;
 
 const char* kTinyOptions = " --steps 300 --gaussians 2000 --patch 32 --progress-every 100 --checkpoint-every 0";
-// Measured (lavapipe, seed 1): test PSNR 16.37 after 300 steps; the bar leaves 1.4 dB.
+// Measured (lavapipe, seed 1, the model sized from the data): test PSNR 16.00 to 16.17 after
+// 300 steps over four runs; the bar leaves 1.0 dB.
 constexpr double kRefractionPsnrBar = 15.0;
 // Float atomics in the backward passes add in thread order, so even two uninterrupted runs
 // differ (measured on lavapipe, 40 steps: parameter differences max 0.019, RMS 8e-4, test
@@ -81,10 +82,12 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
   const size_t vertices = readJson(c.dir / "refraction/config.json")["grid_cells"].get<size_t>() + 1;  // the grid the data sized
   CHECK(heights.shape == std::vector<size_t>{vertices, vertices});
   // The straight-ray model's Gaussians sit where the water makes the scene appear, so with the
-  // water removed the refraction model must see the scene at least as well. Measured over six
-  // runs (lavapipe): refraction ahead by 0.03 to 0.35 dB; with the refraction planted wrong
-  // (eta = n_water instead of 1 / n_water) behind by 0.56 dB.
-  CHECK(c.refraction["water_removal_psnr"].get<double>() >= c.plain["water_removal_psnr"].get<double>() - 0.25);
+  // water removed it must not see the scene much better than the refraction model. Measured
+  // with the model sized from the data (16 x 2 grid, 4 octaves; lavapipe, four runs on two
+  // machines): refraction behind by 0.12 to 0.28 dB; with the refraction planted wrong
+  // (eta = n_water instead of 1 / n_water) behind by 1.28 dB in each of two runs. (With the earlier fixed
+  // 64 x 2 grid and 6 octaves it was ahead by 0.03 to 0.35 dB.)
+  CHECK(c.refraction["water_removal_psnr"].get<double>() >= c.plain["water_removal_psnr"].get<double>() - 0.6);
 }
 
 // Every run's metrics.json gives the mean time per step of each stage (engine/vk/vk_profile.h).
