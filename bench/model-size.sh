@@ -105,11 +105,6 @@ done
     suite_table "$out/$sweep.csv" "series value psnr ssim surface_rmse training_seconds gaussians model_bytes"
     echo
   done
-  if [ -f "$out/failures.txt" ]; then
-    echo "## Failed runs"
-    echo
-    sed 's/^ */- /' "$out/failures.txt"
-  fi
+  suite_failed_runs
 } > "$out/summary.md.tmp"
-mv "$out/summary.md.tmp" "$out/summary.md"
-echo "model-size: done in $(suite_elapsed) s -> $out/summary.md"
+suite_publish_summary

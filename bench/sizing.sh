@@ -124,11 +124,6 @@ EOF
       echo
     done
   done
-  if [ -f "$out/failures.txt" ]; then
-    echo "## Failed runs"
-    echo
-    sed 's/^ */- /' "$out/failures.txt"
-  fi
+  suite_failed_runs
 } > "$out/summary.md.tmp"
-mv "$out/summary.md.tmp" "$out/summary.md"
-echo "sizing: done in $(suite_elapsed) s -> $out/summary.md"
+suite_publish_summary

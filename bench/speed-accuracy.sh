@@ -161,11 +161,6 @@ done
                 f[idx["gaussians"]], f[idx["model_bytes"]] } }' "$csv"
     echo
   done
-  if [ -f "$out/failures.txt" ]; then
-    echo "## Failed runs"
-    echo
-    sed 's/^ */- /' "$out/failures.txt"
-  fi
+  suite_failed_runs
 } > "$out/summary.md.tmp"
-mv "$out/summary.md.tmp" "$out/summary.md"
-echo "speed-accuracy: done in $(suite_elapsed) s -> $out/summary.md"
+suite_publish_summary

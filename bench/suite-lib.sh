@@ -138,3 +138,17 @@ suite_load_line() {
 }
 
 suite_elapsed() { echo $(( $(date +%s) - suite_start )); }
+
+# The end of a suite's summary.md: its failed runs (suite_train's failures.txt), if any.
+suite_failed_runs() {
+  [ -f "$out/failures.txt" ] || return 0
+  echo "## Failed runs"
+  echo
+  sed 's/^ */- /' "$out/failures.txt"
+}
+
+# summary.md.tmp, written whole, becomes summary.md (never half a summary).
+suite_publish_summary() {
+  mv "$out/summary.md.tmp" "$out/summary.md"
+  echo "$suite: done in $(suite_elapsed) s -> $out/summary.md"
+}
