@@ -2,11 +2,13 @@
 # Around the automatic model size (issue 29 item 3; engine/train/model_sizing.h): test PSNR,
 # surface RMSE and training time at the size `refrax train` derives from the data, and one step
 # either side of it for each derived size: the octaves (the grid follows, 2^octaves cells), the
-# subdivision levels, and the Gaussian budget (initial count and cap together, x1/2 and x2).
+# subdivision levels, the Gaussian budget (initial count and cap together, x1/2 and x2), and the
+# coarse grid halved with one subdivision level more (the same finest triangles, a quarter of the
+# coarse vertices: what the 2^octaves grid costs).
 #
 # Usage: bench/sizing.sh [--full | --smoke] [--presets "A B ..."] [--steps N] [--out DIR] [--keep-work] [--charts-only]
 #   default  tiny presets nerfrac-primary-sine and desk-topdown, 1,500 steps of 32 x 32 patches:
-#            7 runs a preset, about 40 s each on 2 lavapipe cores
+#            8 runs a preset, about 40 s each on 2 lavapipe cores
 #   --full   full size (392 px), 6,000 steps of 64 x 64 patches (about 10-30 min a run on lavapipe)
 #   --smoke  one preset, 20 steps (checks the pipeline, not the method)
 # Every run: the presets table's refraction method (bench/presets.sh refraction-sweep) with an
@@ -62,6 +64,8 @@ if [ $charts_only = 0 ]; then
     for k in $((K - 1)) $((K + 1)); do
       [ $k -ge 0 ] && runs+=("subdivision|$k|0|--mlp-octaves $L --grid-cells $((1 << L)) --subdivision $k --gaussians $G --max-gaussians $M")
     done
+    [ $L -ge 3 ] && [ $K -lt 6 ] &&
+      runs+=("grid|$((1 << (L - 1)))|0|--mlp-octaves $L --grid-cells $((1 << (L - 1))) --subdivision $((K + 1)) --gaussians $G --max-gaussians $M")
     for f in half double; do
       [ $f = half ] && g=$((G / 2)) m=$((M / 2))
       [ $f = double ] && g=$((G * 2)) m=$((M * 2))
@@ -76,9 +80,9 @@ if [ $charts_only = 0 ]; then
       suite_train "$csv" "preset=$preset,sweep=$sweep,value=$value,chosen=$is_chosen" "$data" "$preset-$sweep-$value" --steps $steps \
         --eval-every $steps $method $flags
     done
-    # The chosen run is a point of every sweep: its row again under the other two.
-    for sweep in subdivision gaussians; do
-      v=$K; [ $sweep = gaussians ] && v=$M
+    # The chosen run is a point of every sweep: its row again under the others.
+    for sweep in subdivision gaussians grid; do
+      v=$K; [ $sweep = gaussians ] && v=$M; [ $sweep = grid ] && v=$((1 << L))
       [ -d "$work/runs/$preset-octaves-$L" ] && "$REFRAX" report "$work/runs/$preset-octaves-$L" -o "$csv" --append --evaluations \
         --set "preset=$preset,sweep=$sweep,value=$v,chosen=1" > /dev/null
     done
@@ -87,7 +91,8 @@ fi
 
 [ -f "$csv" ] || { echo "sizing: no rows in $csv" >&2; exit 1; }
 declare -A label=([octaves]="frequency-encoding octaves (grid 2^octaves)" [subdivision]="subdivision levels"
-                  [gaussians]="Gaussian cap (initial count 1/8 of it)")
+                  [gaussians]="Gaussian cap (initial count 1/8 of it)"
+                  [grid]="coarse grid cells (halved: one subdivision level more)")
 {
   echo "# Around the automatic model size ($mode)"
   echo
@@ -99,7 +104,7 @@ declare -A label=([octaves]="frequency-encoding octaves (grid 2^octaves)" [subdi
   echo "wall time on this device, runs one after the other."
   echo
   for preset in $presets; do
-    for sweep in octaves subdivision gaussians; do
+    for sweep in octaves subdivision gaussians grid; do
       part=$work/$preset-$sweep.csv
       # this preset's sweep, by value (the chart joins its points in row order)
       python3 - "$csv" "$preset" "$sweep" > "$part" <<'EOF'
