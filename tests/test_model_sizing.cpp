@@ -5,6 +5,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <set>
+#include <string>
 
 #include "engine/base/error.h"
 #include "engine/io/json_io.h"
@@ -80,6 +83,17 @@ TEST_CASE("model sizing: octaves, grid, subdivision and Gaussians follow the foo
   CHECK(sizeModelFromData({nadirCamera(5, 500, 1001, 999)}, 0, kDomain).initialGaussians == 16000);  // 15,625.4
 }
 
+// A default configuration, changed by `given`, sized from one nadir view (footprint 0.01 m over
+// kDomain) for `keys`.
+TrainConfig sizedFromOneView(const std::set<std::string>& keys, const std::function<void(TrainConfig&)>& given) {
+  TrainConfig c;
+  c.domain = kDomain;
+  given(c);
+  c.sizeFromData = keys;
+  applyModelSizing(c, {nadirCamera(5, 500, 640, 480)});
+  return c;
+}
+
 TEST_CASE("model sizing: only the options left to the data change, and a given count bounds the other") {
   TrainConfig c;
   c.waterHeight = 0;
@@ -103,51 +117,31 @@ TEST_CASE("model sizing: only the options left to the data change, and a given c
   CHECK(!c.modelSizing["derived"].contains("grid_cells"));
 
   SUBCASE("a given initial count above the derived cap raises the cap") {
-    TrainConfig d;
-    d.domain = kDomain;
-    d.initialGaussians = 50000;
-    d.sizeFromData = {"max_gaussians"};
-    applyModelSizing(d, {nadirCamera(5, 500, 640, 480)});
+    TrainConfig d = sizedFromOneView({"max_gaussians"}, [](TrainConfig& g) { g.initialGaussians = 50000; });
     CHECK(d.maxGaussians == 50000);
     CHECK(d.modelSizing["derived"]["max_gaussians"]["reason"].get<std::string>().find("raised") != std::string::npos);
   }
   SUBCASE("a given cap below the derived initial count lowers the count") {
-    TrainConfig d;
-    d.domain = kDomain;
-    d.maxGaussians = 1000;
-    d.sizeFromData = {"initial_gaussians"};
-    applyModelSizing(d, {nadirCamera(5, 500, 640, 480)});
+    TrainConfig d = sizedFromOneView({"initial_gaussians"}, [](TrainConfig& g) { g.maxGaussians = 1000; });
     CHECK(d.initialGaussians == 1000);
   }
   SUBCASE("coarse-to-fine on: the coarse octaves stay") {
-    TrainConfig d;
-    d.domain = kDomain;
-    d.mlpCoarseOctaves = 3;
-    d.sizeFromData = {"mlp_octaves"};
-    applyModelSizing(d, {nadirCamera(5, 500, 640, 480)});
+    TrainConfig d = sizedFromOneView({"mlp_octaves"}, [](TrainConfig& g) { g.mlpCoarseOctaves = 3; });
     CHECK(d.mlpOctaves == 5);
     CHECK(d.mlpCoarseOctaves == 3);
   }
   SUBCASE("straight rays size only the Gaussians, a flat plane no height field") {
-    TrainConfig d;
-    d.domain = kDomain;
-    d.model = WaterModel::NoRefraction;
-    d.sizeFromData = {sizedConfigKeys().begin(), sizedConfigKeys().end()};
-    applyModelSizing(d, {nadirCamera(5, 500, 640, 480)});
+    const std::set<std::string> all(sizedConfigKeys().begin(), sizedConfigKeys().end());
+    TrainConfig d = sizedFromOneView(all, [](TrainConfig& g) { g.model = WaterModel::NoRefraction; });
     CHECK(d.initialGaussians == 4800);
     CHECK(d.mlpOctaves == TrainConfig{}.mlpOctaves);
     CHECK(d.gridCells == TrainConfig{}.gridCells);
-    TrainConfig f = d;
-    f.model = WaterModel::FlatWater;
-    f.sizeFromData = {sizedConfigKeys().begin(), sizedConfigKeys().end()};
-    applyModelSizing(f, {nadirCamera(5, 500, 640, 480)});
+    TrainConfig f = sizedFromOneView(all, [](TrainConfig& g) { g.model = WaterModel::FlatWater; });
     CHECK(f.gridCells == 32);
     CHECK(f.mlpOctaves == TrainConfig{}.mlpOctaves);
   }
   SUBCASE("nothing left to the data: nothing derived, nothing recorded") {
-    TrainConfig d;
-    d.domain = kDomain;
-    applyModelSizing(d, {nadirCamera(5, 500, 640, 480)});
+    TrainConfig d = sizedFromOneView({}, [](TrainConfig&) {});
     CHECK(d.modelSizing.is_null());
     CHECK(d.mlpOctaves == TrainConfig{}.mlpOctaves);
   }
