@@ -12,9 +12,9 @@
 # for each NeRFrac-like preset (3 x 3 downward rig, IOR 1.1) and each RefracGS-like scene
 # (desk, kitchen, toys: 24 ring views at IOR 1.33, and their 9-camera downward variants).
 #
-# Usage: bench/presets.sh [--full | --smoke] [--out DIR] [--keep-work] [--charts-only]
+# Usage: bench/presets.sh [--full | --smoke | --cpu-full] [--out DIR] [--keep-work] [--charts-only]
 #                         [--models refraction-sweep,refraction,refraction-smooth,flat-water,no-refraction,
-#                                   no-refraction-sweep,dry-control]
+#                                   flat-water-sweep,no-refraction-sweep,dry-control]
 #                         [--presets NAME,...] [--refraction-options "OPTS"] [--smoothness X]
 #                         [--dataset-size tiny|full] [--steps N]
 #   default  tiny presets (64 px wide), 1,500 steps of 32 x 32 patches, 2,000 initial Gaussians
@@ -27,6 +27,12 @@
 #   --full   full-size presets (392 px NeRFrac-like, 400 x 300 RefracGS-like), the reference
 #            schedule: 15,000 whole-image steps, 20,000 initial Gaussians, SH degree 3 (a GPU).
 #   --smoke  two presets, 20 steps (checks the pipeline, not the method).
+#   --cpu-full  the full-size table on a CPU in one command (issue 29): full-size presets,
+#            6,000 steps of 64 x 64 patches, the Gaussian budget and the water's size derived
+#            from the data (no --gaussians/--max-gaussians/--grid-cells given), the short-run
+#            surface settings, and four models: refraction-sweep, flat-water-sweep (the flat
+#            plane with the same start), no-refraction-sweep and dry-control. Writes
+#            bench/results/presets-cpu-full; with --presets a few at a time, its rows add up.
 #   --models, --presets  run only these models / presets, keeping the other rows of
 #            DIR/presets.csv (e.g. after changing one model's settings).
 #   --refraction-options replaces the refraction model's extra `refrax train` options ("" for
@@ -48,6 +54,8 @@ set -euo pipefail
 invocation="bench/presets.sh${1:+ $*}"
 only_models=""
 only_presets=""
+cpu_full=0
+models_given=""
 refraction_options=unset
 smoothness=0.1
 dataset_size=""
@@ -55,16 +63,23 @@ steps_override=""
 args=()
 while [ $# -gt 0 ]; do
   case $1 in
-    --models) [ $# -ge 2 ] || { echo "presets: --models needs a list" >&2; exit 2; }; only_models=$2; shift ;;
+    --models) [ $# -ge 2 ] || { echo "presets: --models needs a list" >&2; exit 2; }; only_models=$2; models_given=$2; shift ;;
     --presets) [ $# -ge 2 ] || { echo "presets: --presets needs a list" >&2; exit 2; }; only_presets=$2; shift ;;
     --dataset-size) [ $# -ge 2 ] && { [ "$2" = tiny ] || [ "$2" = full ]; } || { echo "presets: --dataset-size needs tiny or full" >&2; exit 2; }; dataset_size=$2; shift ;;
     --steps) [ $# -ge 2 ] && [[ $2 =~ ^[0-9]+$ ]] && [ "$2" -ge 15 ] || { echo "presets: --steps needs a step count (15 or more)" >&2; exit 2; }; steps_override=$2; shift ;;
+    --cpu-full) cpu_full=1 ;;
     --smoothness) [ $# -ge 2 ] || { echo "presets: --smoothness needs a number" >&2; exit 2; }; smoothness=$2; shift ;;
     --refraction-options) [ $# -ge 2 ] || { echo "presets: --refraction-options needs a string" >&2; exit 2; }; refraction_options=$2; shift ;;
     *) args+=("$1") ;;
   esac
   shift
 done
+if [ $cpu_full = 1 ]; then
+  for a in ${args[@]+"${args[@]}"}; do
+    case $a in --full|--smoke) echo "presets: --cpu-full is a mode of its own (not with $a)" >&2; exit 2 ;; esac
+  done
+  args=(--out "$(dirname "$0")/results/presets-cpu-full" ${args[@]+"${args[@]}"})  # a later --out wins
+fi
 suite_parse_args presets ${args[@]+"${args[@]}"}
 
 presets=(nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown)
@@ -76,6 +91,14 @@ case $mode in
   full) steps=15000 common="" refraction="" restarts=5000,7500 ;;
   smoke) steps=20 common="--patch 16 --gaussians 300 --sh-degree 0" refraction=$short_run restarts=10 presets=(nerfrac-hybrid desk) ;;
 esac
+if [ $cpu_full = 1 ]; then
+  # 64 x 64 patches lifted the method by about 2 dB over 32 x 32 at full size (two seeds) and
+  # 6,000 of them are the full-size records' budget (docs/experiments/2026-11-27-dry-fit-patches.md)
+  mode=cpu-full size=full steps=6000 restarts=2000,3200
+  common="--patch 64 --density-reset-every 0 --sh-degree 0"
+  refraction=$short_run
+  [ -n "$only_models" ] || only_models=refraction-sweep,flat-water-sweep,no-refraction-sweep,dry-control
+fi
 if [ -n "$steps_override" ]; then
   steps=$steps_override
   restarts=$((steps / 3)),$((steps * 8 / 15))
@@ -89,6 +112,7 @@ smooth="--surface-smoothness $smoothness"
 sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts --surface-batch views"
 # name|train options[|synth options]
 models=("refraction-sweep|$refraction $sweep" "refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water"
+        "flat-water-sweep|--flat-water --init-depth sweep --restart-gaussians $restarts"
         "no-refraction|--no-refraction" "no-refraction-sweep|--no-refraction --init-depth sweep --restart-gaussians $restarts"
         "dry-control|--no-refraction --init-depth sweep --restart-gaussians $restarts|--dry")
 train_options() { local rest=${1#*|}; echo "${rest%%|*}"; }
@@ -148,7 +172,7 @@ if [ $charts_only = 1 ]; then
 else
   load_line=$(suite_load_line)
   # rows of other models or presets kept from an earlier invocation (--models, --presets)
-  [ -z "$only_models$only_presets" ] || load_line="$load_line This invocation ran only ${only_models:-every model} on ${only_presets:-every preset}; the other rows come from earlier invocations on this device."
+  [ -z "$models_given$only_presets" ] || load_line="$load_line This invocation ran only ${only_models:-every model} on ${only_presets:-every preset}; the other rows come from earlier invocations on this device."
 fi
 # The table: per preset, each model's final evaluation and the refraction model's gain over it.
 summary=$work/summary.md
@@ -165,7 +189,7 @@ lines = [
     "$load_line", "",
     "Sizes: \`refrax synth <preset> --size $size\`; every run \`--steps $steps $common\`; the refraction model adds",
     "\`${refraction:-nothing}\`, refraction-smooth also \`$smooth\`, refraction-sweep also \`$sweep\`; no-refraction-sweep is",
-    "straight rays with the sweep and the restarts; dry-control is the same on \`refrax synth <preset> --dry\` (the same views without the water,",
+    "straight rays with the sweep and the restarts, flat-water-sweep the flat plane with them; dry-control is the same on \`refrax synth <preset> --dry\` (the same views without the water,",
     "the Gaussians' ceiling at this budget). One seed (1); times are training wall time (evaluations excluded), every run on one",
     "device, one after the other. *gain* is the refraction-sweep model's test PSNR minus the other model's on the same preset",
     "(over dry-control: what refraction still costs, negative while the method trails its ceiling);",
@@ -178,7 +202,7 @@ by = {(r["preset"], r["variant"]): r for r in rows}
 for preset in dict.fromkeys(r["preset"] for r in rows):
     ref = by.get((preset, "refraction-sweep"))
     # the models run on some preset (the full-size table runs three of the five)
-    for model in (m for m in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "no-refraction", "no-refraction-sweep", "dry-control") if any(r["variant"] == m for r in rows)):
+    for model in (m for m in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "flat-water-sweep", "no-refraction", "no-refraction-sweep", "dry-control") if any(r["variant"] == m for r in rows)):
         r = by.get((preset, model))
         if r is None:
             lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | | |")
