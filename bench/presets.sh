@@ -194,9 +194,10 @@ lines = [
     "device, one after the other. *gain* is the refraction-sweep model's test PSNR minus the other model's on the same preset",
     "(over dry-control: what refraction still costs, negative while the method trails its ceiling);",
     "*flat start* is the surface RMSE of the initial flat plane (the water height the dataset gives).", "",
+    "*surface correlation* is the learned heights' correlation with the true ones where the test rays meet the water (negative: waves upside down).",
     "*sweep ratio* is the run's own check of its water (docs/training.md, \"Is the learned water right?\"): above 1.02 it warns.", "",
-    "| preset | variant | test PSNR (dB) | gain (dB) | SSIM | surface RMSE | flat start | sweep ratio | training (s) | Gaussians |",
-    "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    "| preset | variant | test PSNR (dB) | gain (dB) | SSIM | surface RMSE | flat start | surface correlation | sweep ratio | training (s) | Gaussians |",
+    "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
 ]
 by = {(r["preset"], r["variant"]): r for r in rows}
 for preset in dict.fromkeys(r["preset"] for r in rows):
@@ -205,11 +206,12 @@ for preset in dict.fromkeys(r["preset"] for r in rows):
     for model in (m for m in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "flat-water-sweep", "no-refraction", "no-refraction-sweep", "dry-control") if any(r["variant"] == m for r in rows)):
         r = by.get((preset, model))
         if r is None:
-            lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | | |")
+            lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | | | |")
             continue
         gain = "" if model == "refraction-sweep" or ref is None else f'{float(ref["eval_psnr"]) - float(r["eval_psnr"]):+.2f}'
         lines.append(f'| {preset} | {model} | {num(r, "eval_psnr", ".2f")} | {gain} | {num(r, "eval_ssim", ".3f")} | '
-                     f'{num(r, "eval_surface_rmse", ".4f")} | {num(r, "initial_flat_surface_rmse", ".4f")} | {num(r, "surface_sweep_ratio", ".3f")} | '
+                     f'{num(r, "eval_surface_rmse", ".4f")} | {num(r, "initial_flat_surface_rmse", ".4f")} | {num(r, "surface_correlation", ".2f")} | '
+                     f'{num(r, "surface_sweep_ratio", ".3f")} | '
                      f'{num(r, "training_seconds", ".0f")} | {r.get("gaussians", "-")} |')
 open(summary, "w").write("\n".join(lines) + "\n")
 EOF

@@ -77,6 +77,45 @@ TEST_CASE("surface distance: exact on a tilted plane, vertical distance only bou
   CHECK_THROWS_AS(surfaceRmse(bad, points), Error);
 }
 
+TEST_CASE("surface correlation: 1 for the true waves at any amplitude and offset, -1 upside down, 0 for unrelated water") {
+  auto waves = [](double x, double y) { return 0.02 * std::sin(3 * x) + 0.01 * std::cos(2 * y + 0.5); };
+  HeightGrid g = gridOf(41, 33, -1, -1, 1, 1, waves);
+  std::mt19937 rng(test::freshSeed());
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  std::vector<glm::dvec3> scaled, inverted, noisy;
+  std::vector<double> heights, noise;
+  for (int k = 0; k < 400; k++) {
+    const double x = U(rng), y = U(rng), h = sampleHeight(g, x, y), e = 0.02 * U(rng);
+    scaled.push_back({x, y, 0.3 * h + 5.0});  // a third of the amplitude, metres above
+    inverted.push_back({x, y, -2 * h});
+    noisy.push_back({x, y, h + e});
+    heights.push_back(h);
+    noise.push_back(e);
+  }
+  auto variance = [](const std::vector<double>& v) {
+    double mean = 0, sum = 0;
+    for (double a : v) mean += a / double(v.size());
+    for (double a : v) sum += (a - mean) * (a - mean);
+    return sum / double(v.size());
+  };
+  const double signal2 = variance(heights), noise2 = variance(noise);
+  CHECK(surfaceCorrelation(g, scaled) == doctest::Approx(1).epsilon(1e-9));
+  CHECK(surfaceCorrelation(g, inverted) == doctest::Approx(-1).epsilon(1e-9));
+  // Independent noise of about the waves' size: near 1 / sqrt(1 + noise / signal), well under 1.
+  const double expected = 1 / std::sqrt(1 + noise2 / signal2);
+  CHECK(surfaceCorrelation(g, noisy) == doctest::Approx(expected).epsilon(0.15));
+  CHECK(surfaceCorrelation(g, noisy) < 0.95);
+  // On a symmetric lattice, water tilted along y over truth that varies along x only: exactly 0.
+  HeightGrid alongX = gridOf(9, 9, -1, -1, 1, 1, [](double x, double) { return 0.1 * x; });
+  std::vector<glm::dvec3> tiltedY;
+  for (int i = -4; i <= 4; i++)
+    for (int j = -4; j <= 4; j++) tiltedY.push_back({i / 4.0, j / 4.0, 0.05 * j / 4.0});
+  CHECK(surfaceCorrelation(alongX, tiltedY) == doctest::Approx(0).scale(1e-12));
+  // Flat learned water, or one point: no correlation to give.
+  CHECK(std::isnan(surfaceCorrelation(g, {{0.1, 0.2, 0.0}, {0.3, -0.4, 0.0}})));
+  CHECK(std::isnan(surfaceCorrelation(g, {{0.1, 0.2, 0.0}})));
+}
+
 TEST_CASE("surface distance on a curved surface agrees with a brute-force search") {
   HeightGrid g = gridOf(11, 9, -1, -1, 1, 1, [](double x, double y) { return 0.25 * std::sin(4 * x) * std::cos(3 * y); });
   const uint32_t seed = test::freshSeed();

@@ -72,6 +72,9 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output and reaches the me
   CHECK(c.refraction["gaussians"].get<uint64_t>() == readGaussiansPly(c.dir / "refraction/point_cloud.ply").count());
   CHECK(c.refraction.contains("water_removal_psnr"));
   CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
+  // Beside the RMSE, the learned heights' correlation with the true ones (a correlation: in [-1, 1]).
+  CHECK(std::abs(c.refraction["surface_correlation"].get<double>()) <= 1);
+  CHECK(!c.plain.contains("surface_correlation"));
   // The learned water's checks (docs/training.md, "Is the learned water right?"): only where water is learned.
   CHECK(c.refraction["surface_agreement"]["ratio"].get<double>() > 0);
   CHECK(c.refraction["surface_roughening"]["judged"].get<bool>());

@@ -154,4 +154,27 @@ double surfaceRmse(const HeightGrid& g, const std::vector<glm::dvec3>& points) {
   return std::sqrt(sum / double(points.size()));
 }
 
+double surfaceCorrelation(const HeightGrid& g, const std::vector<glm::dvec3>& points) {
+  validateHeightGrid(g);
+  const double n = double(points.size());
+  if (points.size() < 2) return std::nan("");
+  // Two passes (means first): the heights are centimetres on an offset of metres.
+  double meanLearned = 0, meanTrue = 0;
+  std::vector<double> truth(points.size());
+  for (size_t i = 0; i < points.size(); i++) {
+    truth[i] = sampleHeight(g, points[i].x, points[i].y);
+    meanLearned += points[i].z / n;
+    meanTrue += truth[i] / n;
+  }
+  double cross = 0, learned2 = 0, true2 = 0;
+  for (size_t i = 0; i < points.size(); i++) {
+    const double a = points[i].z - meanLearned, b = truth[i] - meanTrue;
+    cross += a * b;
+    learned2 += a * a;
+    true2 += b * b;
+  }
+  if (!(learned2 > 0) || !(true2 > 0)) return std::nan("");
+  return cross / std::sqrt(learned2 * true2);
+}
+
 }  // namespace refrax

@@ -41,5 +41,10 @@ double verticalDistance(const HeightGrid& grid, const glm::dvec3& p);
 double closestDistance(const HeightGrid& grid, const glm::dvec3& p);
 // sqrt(mean closestDistance^2) over the points (0 for none).
 double surfaceRmse(const HeightGrid& grid, const std::vector<glm::dvec3>& points);
+// Pearson's correlation of the points' heights p.z with the true heights H(p.x, p.y) under
+// them: 1 for the true waves at any amplitude, about 0 for flat or unrelated water, negative
+// for waves learned upside down (a full-size run's surface was, at -0.9, which the RMSE alone
+// cannot tell from noise). NaN with fewer than two points or a constant side.
+double surfaceCorrelation(const HeightGrid& grid, const std::vector<glm::dvec3>& points);
 
 }  // namespace refrax

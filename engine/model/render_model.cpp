@@ -142,6 +142,9 @@ nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& r
   metrics["missed_rays"] = missed;
   if (truth && !points.empty()) {
     metrics["surface_rmse"] = surfaceRmse(*truth, points);
+    // The RMSE alone reads the same for noisy and for upside-down waves; the correlation tells.
+    const double correlation = surfaceCorrelation(*truth, points);
+    if (std::isfinite(correlation)) metrics["surface_correlation"] = correlation;
     metrics["surface_points"] = points.size();
     metrics["initial_flat_surface_rmse"] = surfaceRmse(*truth, planePoints);
   } else if (truth && m.surface) {
