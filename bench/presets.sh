@@ -55,7 +55,7 @@ invocation="bench/presets.sh${1:+ $*}"
 only_models=""
 only_presets=""
 cpu_full=0
-models_given=""
+mode_models=""  # a mode's own model list (--cpu-full), used when --models is not given
 refraction_options=unset
 smoothness=0.1
 dataset_size=""
@@ -63,7 +63,7 @@ steps_override=""
 args=()
 while [ $# -gt 0 ]; do
   case $1 in
-    --models) [ $# -ge 2 ] || { echo "presets: --models needs a list" >&2; exit 2; }; only_models=$2; models_given=$2; shift ;;
+    --models) [ $# -ge 2 ] || { echo "presets: --models needs a list" >&2; exit 2; }; only_models=$2; shift ;;
     --presets) [ $# -ge 2 ] || { echo "presets: --presets needs a list" >&2; exit 2; }; only_presets=$2; shift ;;
     --dataset-size) [ $# -ge 2 ] && { [ "$2" = tiny ] || [ "$2" = full ]; } || { echo "presets: --dataset-size needs tiny or full" >&2; exit 2; }; dataset_size=$2; shift ;;
     --steps) [ $# -ge 2 ] && [[ $2 =~ ^[0-9]+$ ]] && [ "$2" -ge 15 ] || { echo "presets: --steps needs a step count (15 or more)" >&2; exit 2; }; steps_override=$2; shift ;;
@@ -97,7 +97,7 @@ if [ $cpu_full = 1 ]; then
   mode=cpu-full size=full steps=6000 restarts=2000,3200
   common="--patch 64 --density-reset-every 0 --sh-degree 0"
   refraction=$short_run
-  [ -n "$only_models" ] || only_models=refraction-sweep,flat-water-sweep,no-refraction-sweep,dry-control
+  mode_models=refraction-sweep,flat-water-sweep,no-refraction-sweep,dry-control
 fi
 if [ -n "$steps_override" ]; then
   steps=$steps_override
@@ -119,10 +119,11 @@ train_options() { local rest=${1#*|}; echo "${rest%%|*}"; }
 synth_options() { local rest=${1#*|}; case $rest in *"|"*) echo "${rest#*|}" ;; esac; }
 all_presets=$(IFS=,; echo "${presets[*]}")
 csv=$out/presets.csv
-if [ -n "$only_models" ]; then
+wanted_models=${only_models:-$mode_models}
+if [ -n "$wanted_models" ]; then
   kept=()
   for entry in "${models[@]}"; do
-    case ",$only_models," in *",${entry%%|*},"*) kept+=("$entry") ;; esac
+    case ",$wanted_models," in *",${entry%%|*},"*) kept+=("$entry") ;; esac
   done
   [ ${#kept[@]} -gt 0 ] || { echo "presets: --models names none of $(for entry in "${models[@]}"; do printf '%s ' "${entry%%|*}"; done)" >&2; exit 2; }
   models=("${kept[@]}")
@@ -172,7 +173,7 @@ if [ $charts_only = 1 ]; then
 else
   load_line=$(suite_load_line)
   # rows of other models or presets kept from an earlier invocation (--models, --presets)
-  [ -z "$models_given$only_presets" ] || load_line="$load_line This invocation ran only ${only_models:-every model} on ${only_presets:-every preset}; the other rows come from earlier invocations on this device."
+  [ -z "$only_models$only_presets" ] || load_line="$load_line This invocation ran only ${only_models:-every model} on ${only_presets:-every preset}; the other rows come from earlier invocations on this device."
 fi
 # The table: per preset, each model's final evaluation and the refraction model's gain over it.
 summary=$work/summary.md
