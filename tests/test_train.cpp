@@ -80,6 +80,7 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
     CHECK(!c.plain.contains("surface_correlation"));
     // The learned water's checks (docs/training.md, "Is the learned water right?"): only where water is learned.
     CHECK(c.refraction["surface_agreement"]["ratio"].get<double>() > 0);
+    CHECK(c.refraction["surface_agreement"]["mirror_ratio"].get<double>() > 0);  // the waves against their mirror image
     CHECK(c.refraction["surface_roughening"]["judged"].get<bool>());
     CHECK(c.refraction["surface_watch"].size() >= 50);
     CHECK(!c.plain.contains("surface_agreement"));

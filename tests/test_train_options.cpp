@@ -21,6 +21,7 @@ TrainConfig resolvedConfig() {
   c.domain = Rect{-1, -1, 1, 1};
   c.boxMax[2] = 1;
   resolveSchedule(c);
+  c.schedule.gaussianRestarts = {100};  // what --water-sign-check needs beside it (before the --steps sample)
   return c;
 }
 
@@ -37,6 +38,7 @@ const std::map<std::string, std::pair<std::string, std::string>> kSamples = {
     {"patch", {"16", "16385"}}, {"density-decay", {"0.5", "0"}}, {"density-loss", {"0.5", "1001"}},
     {"surface-batch", {"views", "0"}}, {"surface-freeze", {"11", "-2"}}, {"face-normals-until", {"12", "-2"}},
     {"surface-smoothness", {"0.1", "-1"}}, {"level-prior", {"1000", "inf"}}, {"anchor-mean-height", {"", ""}},
+    {"water-sign-check", {"", ""}},
     {"octaves-open-until", {"13", "-2"}}, {"sh-interval", {"14", "-2"}}, {"density-reset-every", {"15", "-2"}},
     {"density-reset-until", {"16", "-2"}}, {"density-decay-every", {"17", "-2"}}, {"densify-from", {"18", "-2"}},
     {"densify-every", {"19", "-2"}}, {"densify-until", {"20", "-2"}}, {"no-densify", {"", ""}},

@@ -87,6 +87,11 @@ double warmUpHeightField(HeightField& hf);
 
 std::vector<float> downloadWeights(Context& ctx, const HeightField& hf);
 void uploadWeights(Context& ctx, HeightField& hf, const std::vector<float>& weights);  // size must match
+// The mirror image of the surface about the level z = `level`: H'(x, y) = 2 level - H(x, y)
+// up to float rounding (the output layer is linear and has no bias: its weights negated, initialHeight
+// reflected). Why: waves learned upside down fit the views almost as well as the right ones
+// (docs/experiments/2026-11-28-upside-down-water.md); training compares the two.
+void mirrorHeightField(Context& ctx, HeightField& hf, double level);
 
 // File format (little-endian), written atomically (temp file + rename):
 //   char[8] "RFXHGTF\0", u32 version (1), u32 octaves, width, hiddenLayers,

@@ -108,6 +108,8 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.schedule.shDegreeInterval >= 1, "--sh-interval must be at least 1");
   need(c.schedule.lrSteps >= 1, "--lr-steps must be at least 1");
   for (int r : c.schedule.gaussianRestarts) need(r > 0 && r < c.steps, "--restart-gaussians must be steps after the first and before the last");
+  need(!c.waterSignCheck || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
+       "--water-sign-check needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
 }
 
 void applyDerivedDefaults(TrainConfig& c, const std::function<bool(const std::string& key)>& given) {

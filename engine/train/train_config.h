@@ -88,6 +88,13 @@ struct TrainConfig {
   // default: there it halved the surface RMSE (0.084 -> 0.046) but the seen centre still sat
   // 6 cm low, balanced by the unseen border (the domain mean is the wrong constraint there).
   bool anchorMeanHeight = false;
+  // At each --restart-gaussians step, before the Gaussians are drawn afresh, sweep the views
+  // through the learned water and through its mirror image about waterHeight, and keep the
+  // mirror when the views agree clearly more through it (WaterSignCheck). Why: full-size runs
+  // learned the right waves upside down in 2 of 8 runs, fitting the views nearly as well; the
+  // restart discards the Gaussians fitted to the old sign anyway
+  // (docs/experiments/2026-11-28-upside-down-water.md). Off by default: a method setting.
+  bool waterSignCheck = false;
   // Last-layer initial range: the reference's 0.1 starts a 64-wide MLP with height noise of
   // about +-0.3 (larger than the waves of the scenes); a small range starts nearly flat.
   double mlpInitRange = 1e-3;

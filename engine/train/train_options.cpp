@@ -294,6 +294,11 @@ std::vector<TrainOption> makeTable() {
                            "keep the learned water's mean height (each vertex weighted by the training views that see it) at the given "
                            "water height: straight-down views barely see a uniform shift",
                            field(&TrainConfig::anchorMeanHeight), true));
+  t.push_back(switchOption("water-sign-check", "water_sign_check",
+                           "at each --restart-gaussians step, keep the learned water's mirror image about the water height when the "
+                           "views agree clearly more through it (a plane sweep of each): waves learned upside down fit the views "
+                           "nearly as well (docs/training.md)",
+                           field(&TrainConfig::waterSignCheck), true));
   {
     TrainOption o = step("octaves-open-until", "octaves_open_until",
                          "every encoding octave open from step N (the window opens linearly from --surface-freeze)",

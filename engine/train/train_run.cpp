@@ -90,6 +90,25 @@ std::string surfaceAgreementLine(const nlohmann::json& a) {
   return text;
 }
 
+std::string mirrorWarningLine(double mirrorRatio) {
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "warning: the training views agree more through the learned water's mirror image about the water height (plane-sweep "
+                "colour variance %.3gx the learned water's): the waves may be learned upside down; --water-sign-check with "
+                "--restart-gaussians checks this during training (docs/training.md)",
+                mirrorRatio);
+  return text;
+}
+
+// The line after a restart step's --water-sign-check.
+std::string signCheckLine(const TrainSession::SignCheck& c) {
+  char text[400];
+  std::snprintf(text, sizeof text, "step %d: the training views' plane-sweep colour variance through the water's mirror image is %.3gx the learned water's: %s",
+                c.step, c.agreement.reference > 0 ? c.agreement.cost / c.agreement.reference : 0.0,
+                c.mirrored ? "the mirror image kept" : "the learned water kept");
+  return text;
+}
+
 // A resumed run's samples up to its checkpoint (kept on disk as they grow, like evaluations).
 std::vector<SurfaceWatchSample> readSurfaceWatch(const std::string& runDir, int upToStep) {
   std::vector<SurfaceWatchSample> kept;
@@ -148,6 +167,20 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
                                 {"warned", ratio > kAgreementWarning}};
       m["surface_sweep_ratio"] = ratio;  // the report's column
     }
+    if (s.height) {
+      const SweepAgreement mirror = agreementOfMirror(s);
+      if (mirror.cells > 0 && mirror.reference > 0 && m.contains("surface_agreement")) {
+        m["surface_agreement"]["mirror_ratio"] = mirror.cost / mirror.reference;
+        m["surface_agreement"]["mirror_better"] = mirror.cost < kMirrorBetter * mirror.reference;
+      }
+    }
+  }
+  if (!s.signChecks.empty()) {
+    nlohmann::json checks = nlohmann::json::array();
+    for (const TrainSession::SignCheck& c : s.signChecks)
+      checks.push_back({{"step", c.step}, {"learned_sweep_cost", c.agreement.reference}, {"mirror_sweep_cost", c.agreement.cost},
+                        {"cells", c.agreement.cells}, {"mirrored", c.mirrored}});
+    m["water_sign_checks"] = checks;  // this process's (a resumed run's start at its checkpoint)
   }
   if (!s.surfaceWatch.empty()) {
     m["surface_watch"] = surfaceWatchJson(s.surfaceWatch);
@@ -185,6 +218,7 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     if (r.restarted) {
       std::string how = c.initDepth == "sweep" ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.sweptCellFraction))) + "% of the cells" : "";
       if (c.initPoints) how += ", " + std::to_string(s.gaussiansAtPoints) + " at sparse points";
+      if (!s.signChecks.empty() && s.signChecks.back().step == s.step) say(signCheckLine(s.signChecks.back()));
       say("step " + std::to_string(s.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
     }
     watchLoss += r.imageLoss;
@@ -225,7 +259,11 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
   nlohmann::json m = writeRunOutputs(s, runDir);
   if (m.contains("surface_roughening") && m["surface_roughening"]["judged"].get<bool>())
     say(std::string(m["surface_roughening"]["roughening"].get<bool>() ? "warning: " : "") + m["surface_roughening"]["text"].get<std::string>());
-  if (m.contains("surface_agreement")) say(surfaceAgreementLine(m["surface_agreement"]));
+  if (m.contains("surface_agreement")) {
+    say(surfaceAgreementLine(m["surface_agreement"]));
+    if (m["surface_agreement"].value("mirror_better", false))
+      say(mirrorWarningLine(m["surface_agreement"]["mirror_ratio"].get<double>()));
+  }
   return m;
 }
 

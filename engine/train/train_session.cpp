@@ -566,35 +566,70 @@ bool densifyStep(TrainSession& s, int t) {
   return !identity;  // new rows: re-upload and rebuild the proxies
 }
 
+// --water-sign-check: the learned water's mirror image kept when the views agree clearly more
+// through it. The MLP's first Adam moments are zeroed (the old direction points back to the
+// old sign); the second moments are kept, being blind to the sign and the gradients' scale.
+void checkWaterSign(TrainSession& s, int t) {
+  TrainSession::SignCheck check;
+  check.step = t;
+  check.agreement = agreementOfMirror(s);
+  const SweepAgreement& a = check.agreement;
+  check.mirrored = a.cells > 0 && a.cost < kMirrorBetter * a.reference;
+  if (check.mirrored) {
+    mirrorHeightField(*s.ctx, *s.height, s.config.waterHeight);
+    fillBuffer(*s.ctx, s.heightAdam.m, 0);
+    liftSurface(s);
+    anchorMeanHeight(s);
+  }
+  s.signChecks.push_back(check);
+}
+
 // The Gaussians drawn afresh when the step is one of --restart-gaussians; true if so.
 bool restartStep(TrainSession& s, int t) {
   const std::vector<int>& restarts = s.config.schedule.gaussianRestarts;
   if (std::find(restarts.begin(), restarts.end(), t) == restarts.end()) return false;
   HostStage h(*s.ctx, "restart and plane sweep");
+  if (s.config.waterSignCheck && s.height && waterLearnsAt(s, t)) checkWaterSign(s, t);
   drawGaussians(s);
   return true;
+}
+
+// The plane sweep through the water lifted from `heights` (left lifted from it), on pc's grid;
+// a pc without a cell size gets these views' (so a second sweep compares on the same grid).
+// The sweep's time grows with views x pixels x planes: a capture of a hundred views checks
+// through twelve of them (the synthetic rigs have 8 and 24).
+DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSweepConfig& pc) {
+  constexpr size_t kMaxViews = 12;
+  pushWaterGradient(s);
+  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, heights); });
+  std::vector<SweepView> views = sweepViews(s, heights, kMaxViews);
+  if (!(pc.cellSize > 0)) pc.cellSize = sweepCellSize(views, 0.5 * (pc.zMin + pc.zMax));
+  return planeSweepDepth(views, pc);
 }
 
 }  // namespace
 
 SweepAgreement agreementWithFlatWater(TrainSession& s) {
   if (!s.surface) fail("agreementWithFlatWater: the model has no water");
-  // The sweep's time grows with views x pixels x planes: a capture of a hundred views checks
-  // through twelve of them (the synthetic rigs have 8 and 24).
-  constexpr size_t kMaxViews = 12;
-  PlaneSweepConfig pc = boxSweepConfig(s.config);
   AnalyticWaves level;
   level.base = float(s.config.waterHeight);
   AnalyticHeightField flat = createAnalyticHeightField(*s.ctx, level);
-  pushWaterGradient(s);
-  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, heightSource(flat)); });
-  std::vector<SweepView> flatViews = sweepViews(s, heightSource(flat), kMaxViews);
-  liftSurface(s);  // the learned water again
-  // One grid for both: the flat water's cell size.
-  pc.cellSize = sweepCellSize(flatViews, 0.5 * (pc.zMin + pc.zMax));
-  DepthMap reference = planeSweepDepth(flatViews, pc);
-  flatViews.clear();
-  return compareSweepCosts(planeSweepDepth(sweepViews(s, currentHeightSource(s), kMaxViews), pc), reference);
+  PlaneSweepConfig pc = boxSweepConfig(s.config);  // one grid for both: the flat water's cell size
+  const DepthMap reference = sweepThroughWater(s, heightSource(flat), pc);
+  return compareSweepCosts(sweepThroughWater(s, currentHeightSource(s), pc), reference);
+}
+
+SweepAgreement agreementOfMirror(TrainSession& s) {
+  if (!s.surface || !s.height) fail("agreementOfMirror: the model has no learned height field");
+  PlaneSweepConfig pc = boxSweepConfig(s.config);
+  const DepthMap learned = sweepThroughWater(s, currentHeightSource(s), pc);
+  const float initialHeight = s.height->config.initialHeight;
+  mirrorHeightField(*s.ctx, *s.height, s.config.waterHeight);
+  const SweepAgreement a = compareSweepCosts(sweepThroughWater(s, currentHeightSource(s), pc), learned);
+  mirrorHeightField(*s.ctx, *s.height, s.config.waterHeight);  // back: negation is exact,
+  s.height->config.initialHeight = initialHeight;               // the reflected constant maybe not
+  liftSurface(s);
+  return a;
 }
 
 void pushWaterGradient(TrainSession& s) {

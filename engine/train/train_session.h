@@ -72,6 +72,14 @@ struct TrainSession : Model {
   double priorEnergy = 0;
   uint64_t priorHeightsVersion = 0;  // the surface's heightsVersion they were computed at
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
+  // --water-sign-check at the restarts of this process: the step, the mirror's agreement
+  // against the learned water's, and whether the mirror was kept.
+  struct SignCheck {
+    int step = 0;
+    SweepAgreement agreement;
+    bool mirrored = false;
+  };
+  std::vector<SignCheck> signChecks;
   size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
 
   // Per-step buffers for up to `batchCapacity` rays (the model's own ray buffers: Model::capacity).
@@ -171,6 +179,15 @@ void ensureRayCapacity(TrainSession& session, uint32_t rays);
 // ground-truth-free check that the surface explains the views better than its flat start.
 // The surface is lifted back from the session's height source.
 SweepAgreement agreementWithFlatWater(TrainSession& session);
+
+// The learned water (a height field) against its mirror image about the water height
+// (mirrorHeightField), by the same plane-sweep agreement: `cost` the mirror's, `reference` the
+// learned water's. The height field and the surface are left as they were.
+SweepAgreement agreementOfMirror(TrainSession& session);
+// A mirror whose cost is under this fraction of the learned water's is the better water: a
+// nearly flat water reads within about 1% of its mirror, and the full-size waves learned
+// upside down 0.32-0.34x (their mirrors, right way up, 2.9-3.1x the other way).
+constexpr double kMirrorBetter = 0.95;
 
 // anchorMeanHeight (engine/model/model.h) over the training views.
 void anchorMeanHeight(TrainSession& session);

@@ -1,0 +1,167 @@
+// Waves learned upside down (docs/experiments/2026-11-28-upside-down-water.md): a height
+// field's mirror image about the water height, the views' plane-sweep agreement through a
+// water against through its mirror, and --water-sign-check at a restart, on the tiny
+// NeRFrac-like preset with its height field fitted directly to the true waves or to their mirror.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "engine/base/error.h"
+#include "engine/dataset/ground_truth.h"
+#include "engine/height/analytic_height.h"
+#include "engine/train/train_session.h"
+#include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_commands.h"
+#include "tests/gpu_test.h"
+#include "tests/train_test_util.h"
+
+using namespace refrax;
+
+namespace {
+
+// Points on an n x n grid over the surface's domain, as float2.
+std::vector<float> domainGrid(const TrainConfig& c, int n) {
+  std::vector<float> xy;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      xy.push_back(float(c.domain.xMin + (c.domain.xMax - c.domain.xMin) * (i + 0.5) / n));
+      xy.push_back(float(c.domain.yMin + (c.domain.yMax - c.domain.yMin) * (j + 0.5) / n));
+    }
+  return xy;
+}
+
+std::vector<float> heightsAt(Context& ctx, const HeightField& hf, const std::vector<float>& xy) {
+  Buffer points = createBufferFrom(ctx, xy);
+  Buffer heights = createBuffer(ctx, xy.size() / 2 * 4);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdEvaluateHeights(cb, hf, points, uint32_t(xy.size() / 2), heights); });
+  return downloadVector<float>(ctx, heights, xy.size() / 2);
+}
+
+// The session's height field fitted to `target` on a 48 x 48 grid over the domain by Adam on
+// the mean squared error (a known surface without training through the views), and the
+// surface lifted from it.
+void fitHeightField(Context& ctx, TrainSession& s, const std::function<double(double, double)>& target) {
+  HeightField& hf = *s.height;
+  const std::vector<float> xy = domainGrid(s.config, 48);
+  const uint32_t n = uint32_t(xy.size() / 2);
+  std::vector<float> targets(n);
+  for (uint32_t k = 0; k < n; k++) targets[k] = float(target(xy[2 * k], xy[2 * k + 1]));
+  Buffer points = createBufferFrom(ctx, xy);
+  Buffer heights = createBuffer(ctx, n * 4), dLoss = createBuffer(ctx, n * 4), grad = createBuffer(ctx, hf.parameterCount * 4);
+  fillBuffer(ctx, grad, 0);
+  AdamGroup adam = createAdamGroup(ctx, "fit", LearningRateSchedule{3e-3, 3e-3, 1}, 1, uint32_t(hf.parameterCount));
+  AdamPipelines pipelines = createAdamPipelines(ctx);
+  for (int it = 0; it < 300; it++) {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdEvaluateHeights(cb, hf, points, n, heights); });
+    std::vector<float> h = downloadVector<float>(ctx, heights, n), d(n);
+    for (uint32_t k = 0; k < n; k++) d[k] = 2 * (h[k] - targets[k]) / float(n);
+    upload(ctx, dLoss, d.data(), n * 4);
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cmdAccumulateHeightGradients(cb, hf, points, dLoss, n, grad);
+      cmdBarrier(cb);
+      cmdAdamStep(cb, pipelines, adam, hf.weights, grad, 0, true);
+    });
+  }
+  liftSurface(s);
+}
+
+// Pearson correlation of the height field with `truth` on the domain grid.
+double correlationWith(Context& ctx, const TrainSession& s, const std::function<double(double, double)>& truth) {
+  const std::vector<float> xy = domainGrid(s.config, 97);  // between the fit's points too
+  const std::vector<float> h = heightsAt(ctx, *s.height, xy);
+  double mh = 0, mt = 0;
+  const size_t n = h.size();
+  for (size_t k = 0; k < n; k++) {
+    mh += h[k] / double(n);
+    mt += truth(xy[2 * k], xy[2 * k + 1]) / double(n);
+  }
+  double ht = 0, hh = 0, tt = 0;
+  for (size_t k = 0; k < n; k++) {
+    const double a = h[k] - mh, b = truth(xy[2 * k], xy[2 * k + 1]) - mt;
+    ht += a * b;
+    hh += a * a;
+    tt += b * b;
+  }
+  return ht / std::sqrt(hh * tt);
+}
+
+}  // namespace
+
+// One backend: the check decides on the sweeps' costs, and the sweep through the water is checked on
+// both backends (test_plane_sweep.cpp); this case takes about a minute.
+GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check keeps the mirror of waves fitted upside down" *
+              doctest::test_suite("one-backend")) {
+  // The strong-wave variant (the long test's): through the preset's own 64-px views at IOR 1.1
+  // the sweep reads the true waves and their mirror alike (0.98x).
+  std::string data = test::tinyDataset("nerfrac-primary-sine", "--width 192");
+  Dataset d;
+  TrainConfig c = test::sessionConfig(data, 4, 300, 16, 1, d);
+  c.mlpCoarseOctaves = c.mlpOctaves;  // every octave open: the fit holds the waves
+  c.schedule.gaussianRestarts = {1};
+  c.schedule.surfaceFreeze = 0;
+  const AnalyticWaves waves = loadGroundTruthWaves(d);
+  const double level = c.waterHeight;
+  auto truth = [&](double x, double y) { return analyticHeightRef(waves, x, y); };
+  auto upsideDown = [&](double x, double y) { return 2 * level - analyticHeightRef(waves, x, y); };
+
+  SUBCASE("the mirror image is 2 level - H, and mirroring twice gives the weights back") {
+    auto s = createTrainSession(ctx, c, d);
+    s->height->config.initialHeight = float(level + 0.01);  // as an anchored water's may be
+    const std::vector<float> xy = domainGrid(c, 24);
+    const std::vector<float> before = heightsAt(ctx, *s->height, xy);
+    const std::vector<float> weights = downloadWeights(ctx, *s->height);
+    mirrorHeightField(ctx, *s->height, level);
+    const std::vector<float> after = heightsAt(ctx, *s->height, xy);
+    for (size_t k = 0; k < before.size(); k++) CHECK(after[k] == doctest::Approx(2 * level - before[k]).epsilon(1e-6).scale(1e-6));
+    mirrorHeightField(ctx, *s->height, level);
+    CHECK(downloadWeights(ctx, *s->height) == weights);
+  }
+
+  SUBCASE("the views agree more through the waves than through their mirror; at a restart the check keeps them, and turns "
+          "waves fitted upside down the right way up") {
+    c.waterSignCheck = true;
+    auto s = createTrainSession(ctx, c, d);
+    fitHeightField(ctx, *s, truth);
+    REQUIRE(correlationWith(ctx, *s, truth) > 0.8);
+    const std::vector<float> weights = downloadWeights(ctx, *s->height);
+    const float initialHeight = s->height->config.initialHeight;
+    const std::vector<float> grid = downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount);
+    const SweepAgreement a = agreementOfMirror(*s);
+    CHECK(a.cells > 1000);
+    CHECK(a.cost > a.reference);
+    CHECK(downloadWeights(ctx, *s->height) == weights);  // the water as it was
+    CHECK(s->height->config.initialHeight == initialHeight);
+    CHECK(downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount) == grid);
+    CHECK(trainStep(*s).restarted);  // step 1
+    REQUIRE(s->signChecks.size() == 1);
+    CHECK(s->signChecks[0].step == 1);
+    CHECK_FALSE(s->signChecks[0].mirrored);
+
+    auto inverted = createTrainSession(ctx, c, d);
+    fitHeightField(ctx, *inverted, upsideDown);
+    REQUIRE(correlationWith(ctx, *inverted, truth) < -0.8);
+    CHECK(trainStep(*inverted).restarted);
+    REQUIRE(inverted->signChecks.size() == 1);
+    const SweepAgreement& flip = inverted->signChecks[0].agreement;
+    MESSAGE("the mirror's sweep cost: " << a.cost / a.reference << "x the fitted waves', " << flip.cost / flip.reference
+                                        << "x the waves fitted upside down");
+    CHECK(inverted->signChecks[0].mirrored);
+    CHECK(correlationWith(ctx, *inverted, truth) > 0.8);
+    trainStep(*inverted);  // it trains on
+  }
+
+  SUBCASE("the option survives config.json and needs a learned water and a restart") {
+    c.waterSignCheck = true;
+    CHECK(trainConfigFromJson(trainConfigToJson(c), "test").waterSignCheck);
+    nlohmann::json old = trainConfigToJson(c);
+    old.erase("water_sign_check");
+    CHECK_FALSE(trainConfigFromJson(old, "old").waterSignCheck);  // runs from before the option
+    c.schedule.gaussianRestarts = {};
+    CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--water-sign-check"), Error);
+    c.schedule.gaussianRestarts = {1};
+    c.model = WaterModel::FlatWater;
+    CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--water-sign-check"), Error);
+  }
+}
