@@ -30,7 +30,8 @@
 #   --cpu-full  the full-size table on a CPU in one command (issue 29): full-size presets,
 #            6,000 steps of 64 x 64 patches, the Gaussian budget and the water's size derived
 #            from the data (no --gaussians/--max-gaussians/--grid-cells given), the short-run
-#            surface settings, and four models: refraction-sweep, flat-water-sweep (the flat
+#            surface settings (and --water-sign-check at the restarts, as every full-size
+#            refraction-sweep run), and four models: refraction-sweep, flat-water-sweep (the flat
 #            plane with the same start), no-refraction-sweep and dry-control. Writes
 #            bench/results/presets-cpu-full; with --presets a few at a time, its rows add up.
 #   --models, --presets  run only these models / presets, keeping the other rows of
@@ -110,6 +111,10 @@ smooth="--surface-smoothness $smoothness"
 # --surface-batch views: one surface step per pass over the training views, on their summed
 # gradient (without it the surface ran away on 5 of the 9 tiny presets; docs/training.md)
 sweep="--level-prior 1000 --init-depth sweep --restart-gaussians $restarts --surface-batch views"
+# At full size the restarts also check the water against its mirror image (--water-sign-check):
+# 2 of 8 full-size runs learned the waves upside down. Not at 64 px, where the sweep reads the
+# waves and their mirror alike (docs/experiments/2026-11-28-upside-down-water.md).
+[ "$size" = full ] && sweep="$sweep --water-sign-check"
 # name|train options[|synth options]
 models=("refraction-sweep|$refraction $sweep" "refraction|$refraction" "refraction-smooth|$refraction $smooth" "flat-water|--flat-water"
         "flat-water-sweep|--flat-water --init-depth sweep --restart-gaussians $restarts"
