@@ -32,13 +32,6 @@ std::vector<float> domainGrid(const TrainConfig& c, int n) {
   return xy;
 }
 
-std::vector<float> heightsAt(Context& ctx, const HeightField& hf, const std::vector<float>& xy) {
-  Buffer points = createBufferFrom(ctx, xy);
-  Buffer heights = createBuffer(ctx, xy.size() / 2 * 4);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdEvaluateHeights(cb, hf, points, uint32_t(xy.size() / 2), heights); });
-  return downloadVector<float>(ctx, heights, xy.size() / 2);
-}
-
 // The session's height field fitted to `target` on a 48 x 48 grid over the domain by Adam on
 // the mean squared error (a known surface without training through the views), and the
 // surface lifted from it.
@@ -67,22 +60,25 @@ void fitHeightField(Context& ctx, TrainSession& s, const std::function<double(do
   liftSurface(s);
 }
 
-// Pearson correlation of the height field with `truth` on the domain grid.
-double correlationWith(Context& ctx, const TrainSession& s, const std::function<double(double, double)>& truth) {
-  const std::vector<float> xy = domainGrid(s.config, 97);  // between the fit's points too
-  const std::vector<float> h = heightsAt(ctx, *s.height, xy);
+// Pearson correlation of the learned heights with `truth` on a 97 x 97 grid over the domain
+// (sampleWaterHeights: between the fit's points too).
+double correlationWith(TrainSession& s, const std::function<double(double, double)>& truth) {
+  const uint32_t n = 97;
+  const std::vector<double> h = sampleWaterHeights(s, n, n);
+  const Rect& r = s.config.domain;
+  std::vector<double> t(h.size());
+  for (uint32_t j = 0; j < n; j++)
+    for (uint32_t i = 0; i < n; i++) t[j * n + i] = truth(r.xMin + (r.xMax - r.xMin) * i / (n - 1), r.yMin + (r.yMax - r.yMin) * j / (n - 1));
   double mh = 0, mt = 0;
-  const size_t n = h.size();
-  for (size_t k = 0; k < n; k++) {
-    mh += h[k] / double(n);
-    mt += truth(xy[2 * k], xy[2 * k + 1]) / double(n);
+  for (size_t k = 0; k < h.size(); k++) {
+    mh += h[k] / double(h.size());
+    mt += t[k] / double(h.size());
   }
   double ht = 0, hh = 0, tt = 0;
-  for (size_t k = 0; k < n; k++) {
-    const double a = h[k] - mh, b = truth(xy[2 * k], xy[2 * k + 1]) - mt;
-    ht += a * b;
-    hh += a * a;
-    tt += b * b;
+  for (size_t k = 0; k < h.size(); k++) {
+    ht += (h[k] - mh) * (t[k] - mt);
+    hh += (h[k] - mh) * (h[k] - mh);
+    tt += (t[k] - mt) * (t[k] - mt);
   }
   return ht / std::sqrt(hh * tt);
 }
@@ -109,11 +105,10 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
   SUBCASE("the mirror image is 2 level - H, and mirroring twice gives the weights back") {
     auto s = createTrainSession(ctx, c, d);
     s->height->config.initialHeight = float(level + 0.01);  // as an anchored water's may be
-    const std::vector<float> xy = domainGrid(c, 24);
-    const std::vector<float> before = heightsAt(ctx, *s->height, xy);
+    const std::vector<double> before = sampleWaterHeights(*s, 24, 24);
     const std::vector<float> weights = downloadWeights(ctx, *s->height);
     mirrorHeightField(ctx, *s->height, level);
-    const std::vector<float> after = heightsAt(ctx, *s->height, xy);
+    const std::vector<double> after = sampleWaterHeights(*s, 24, 24);
     for (size_t k = 0; k < before.size(); k++) CHECK(after[k] == doctest::Approx(2 * level - before[k]).epsilon(1e-6).scale(1e-6));
     mirrorHeightField(ctx, *s->height, level);
     CHECK(downloadWeights(ctx, *s->height) == weights);
@@ -124,7 +119,7 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
     c.waterSignCheck = true;
     auto s = createTrainSession(ctx, c, d);
     fitHeightField(ctx, *s, truth);
-    REQUIRE(correlationWith(ctx, *s, truth) > 0.8);
+    REQUIRE(correlationWith(*s, truth) > 0.8);
     const std::vector<float> weights = downloadWeights(ctx, *s->height);
     const float initialHeight = s->height->config.initialHeight;
     const std::vector<float> grid = downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount);
@@ -141,14 +136,14 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
 
     auto inverted = createTrainSession(ctx, c, d);
     fitHeightField(ctx, *inverted, upsideDown);
-    REQUIRE(correlationWith(ctx, *inverted, truth) < -0.8);
+    REQUIRE(correlationWith(*inverted, truth) < -0.8);
     CHECK(trainStep(*inverted).restarted);
     REQUIRE(inverted->signChecks.size() == 1);
     const SweepAgreement& flip = inverted->signChecks[0].agreement;
     MESSAGE("the mirror's sweep cost: " << a.cost / a.reference << "x the fitted waves', " << flip.cost / flip.reference
                                         << "x the waves fitted upside down");
     CHECK(inverted->signChecks[0].mirrored);
-    CHECK(correlationWith(ctx, *inverted, truth) > 0.8);
+    CHECK(correlationWith(*inverted, truth) > 0.8);
     trainStep(*inverted);  // it trains on
   }
 
