@@ -129,6 +129,95 @@ TEST_CASE("plane sweep: the depth of a textured two-level floor, seen straight a
   }
 }
 
+namespace {
+
+// The sweep's cost table written directly, cell by cell: per plane, every (cell, view)'s colour
+// sums, then each cell's spread of the views' mean colours summed over its whole window.
+// planeSweepDepth computes the same from the cells each view reaches, window by rows and
+// columns, planes on threads. cost[cell * planes + k], infinite where no window has a view.
+std::vector<double> directSweepCosts(const std::vector<SweepView>& views, const PlaneSweepConfig& c, const DepthMap& map,
+                                     std::vector<float>& colour) {
+  const size_t X = map.cellsX, Y = map.cellsY, cells = X * Y, V = views.size(), P = c.planes;
+  std::vector<double> cost(cells * P, std::numeric_limits<double>::infinity());
+  colour.assign(cells * P * 3, 0.0f);
+  for (size_t k = 0; k < P; k++) {
+    const double z = c.zMin + (double(k) + 0.5) * (c.zMax - c.zMin) / double(P);
+    std::vector<double> sums(cells * V * 4, 0.0), spread(cells, 0.0), dof(cells, 0.0);
+    for (size_t v = 0; v < V; v++)
+      for (size_t i = 0; i < views[v].rays.size(); i++) {
+        const GpuRay& r = views[v].rays[i];
+        if (!(r.dir[2] < 0) || !(r.origin[2] >= z)) continue;
+        const double t = (z - r.origin[2]) / r.dir[2];
+        const long cell = map.cellAt(r.origin[0] + t * r.dir[0], r.origin[1] + t * r.dir[1]);
+        if (cell < 0) continue;
+        for (int ch = 0; ch < 3; ch++) sums[(size_t(cell) * V + v) * 4 + ch] += views[v].image->pixels[i * 3 + ch];
+        sums[(size_t(cell) * V + v) * 4 + 3] += 1;
+      }
+    for (size_t cell = 0; cell < cells; cell++) {
+      double mean[3] = {0, 0, 0}, squares = 0, n = 0;
+      for (size_t v = 0; v < V; v++) {
+        const double* s = &sums[(cell * V + v) * 4];
+        if (s[3] == 0) continue;
+        for (int ch = 0; ch < 3; ch++) mean[ch] += s[ch] / s[3], squares += (s[ch] / s[3]) * (s[ch] / s[3]);
+        n++;
+      }
+      if (n == 0) continue;
+      for (int ch = 0; ch < 3; ch++) mean[ch] /= n, colour[(cell * P + k) * 3 + ch] = float(mean[ch]);
+      if (n < c.minViews) continue;
+      spread[cell] = std::max(0.0, squares - n * (mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]));
+      dof[cell] = n - 1;
+    }
+    const long R = long(c.windowRadius);
+    for (long cy = 0; cy < long(Y); cy++)
+      for (long cx = 0; cx < long(X); cx++) {
+        double s = 0, n = 0;
+        for (long wy = cy - R; wy <= cy + R; wy++)
+          for (long wx = cx - R; wx <= cx + R; wx++)
+            if (wx >= 0 && wy >= 0 && wx < long(X) && wy < long(Y)) s += spread[size_t(wy) * X + size_t(wx)], n += dof[size_t(wy) * X + size_t(wx)];
+        if (n > 0) cost[(size_t(cy) * X + size_t(cx)) * P + k] = s / n;
+      }
+  }
+  return cost;
+}
+
+}  // namespace
+
+TEST_CASE("plane sweep: the best cost and colour of every cell match the sweep written directly, for several windows") {
+  Views v = makeViews(1.33, true);
+  for (uint32_t radius : {0u, 1u, 2u, 4u}) {
+    CAPTURE(radius);
+    PlaneSweepConfig c = sweepBox();
+    c.planes = 40;
+    c.windowRadius = radius;
+    c.minViews = radius == 4 ? 5 : 3;
+    const DepthMap map = planeSweepDepth(v.views, c);
+    c.cellSize = map.cellSize;
+    std::vector<float> colour;
+    const std::vector<double> cost = directSweepCosts(v.views, c, map, colour);
+    const size_t P = c.planes;
+    size_t withCost = 0, withDepth = 0, costOff = 0, colourOff = 0;
+    for (size_t cell = 0; cell < map.bestCost.size(); cell++) {
+      const double* cc = &cost[cell * P];
+      const size_t finite = size_t(std::count_if(cc, cc + P, [](double x) { return std::isfinite(x); }));
+      if (finite < P / 2) {  // too few planes saw it to compare them: no cost
+        costOff += !std::isnan(map.bestCost[cell]);
+        continue;
+      }
+      withCost++;
+      const size_t best = size_t(std::min_element(cc, cc + P) - cc);
+      costOff += !(std::abs(map.bestCost[cell] - cc[best]) <= 1e-12 * std::max(1.0, cc[best]));
+      if (!std::isfinite(map.z[cell])) continue;
+      withDepth++;
+      for (int ch = 0; ch < 3; ch++) colourOff += !(std::abs(map.rgb[cell * 3 + ch] - colour[(cell * P + best) * 3 + ch]) <= 1e-6f);
+    }
+    MESSAGE("window radius " << radius << ": " << withCost << " cells with a cost, " << withDepth << " with a depth");
+    CHECK(withCost > 500);
+    CHECK(withDepth > 200);
+    CHECK(costOff == 0);
+    CHECK(colourOff == 0);
+  }
+}
+
 TEST_CASE("plane sweep: views agree less through a wrong water than through the right one") {
   // The views of the floor through flat water, traced through the right water (flat) and
   // through a wrong one: each ray's direction tilted as a wavy surface would (up to 0.08 rad).

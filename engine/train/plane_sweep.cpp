@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include "engine/base/error.h"
 
@@ -39,6 +40,96 @@ double sweepCellSize(const std::vector<SweepView>& views, double z) {
   return size;
 }
 
+namespace {
+
+// One plane's scratch, one per thread: the planes are swept independently.
+struct PlaneScratch {
+  std::vector<double> viewSums;   // per cell: r, g, b, count of the view being added (zero between views)
+  std::vector<uint32_t> touched;  // the cells that view's rays landed in
+  std::vector<double> views;      // per cell: the views' mean r, g, b summed, their squares summed, the views
+  std::vector<double> spread, dof, rowSpread, rowDof;  // per cell; the window's sums along x
+  explicit PlaneScratch(size_t cells)
+      : viewSums(cells * 4, 0.0), views(cells * 5), spread(cells), dof(cells), rowSpread(cells), rowDof(cells) {
+    touched.reserve(cells);  // allocated here, so that a sweeping thread never allocates (nor throws)
+  }
+};
+
+// Plane k at height z: per cell, the views' mean colour there and the spread of the views'
+// mean colours about it; then the spread summed over a window of cells and divided by its
+// degrees of freedom, into cost[cell * planes + k].
+void sweepPlane(const std::vector<SweepView>& views, const DepthMap& map, const PlaneSweepConfig& c, size_t k, double z,
+                PlaneScratch& w, std::vector<double>& cost, std::vector<float>& colour) {
+  const size_t cells = size_t(map.cellsX) * map.cellsY, P = c.planes;
+  std::fill(w.views.begin(), w.views.end(), 0.0);
+  for (const SweepView& v : views) {
+    const Image& im = *v.image;
+    for (size_t i = 0; i < v.rays.size(); i++) {
+      double x, y;
+      if (!rayAtPlane(v.rays[i], z, x, y)) continue;
+      long cell = map.cellAt(x, y);
+      if (cell < 0) continue;
+      double* s = &w.viewSums[size_t(cell) * 4];
+      if (s[3] == 0) w.touched.push_back(uint32_t(cell));
+      for (int ch = 0; ch < 3; ch++) s[ch] += im.pixels[i * size_t(im.channels) + ch];
+      s[3] += 1;
+    }
+    // Only the cells this view reached: a pass over every (cell, view) per plane, zeroing and
+    // reading, took most of a sweep's time (256 x 192 pixels, 12 views, 319^2 cells).
+    for (uint32_t cell : w.touched) {
+      double* s = &w.viewSums[size_t(cell) * 4];
+      double* a = &w.views[size_t(cell) * 5];
+      for (int ch = 0; ch < 3; ch++) {
+        double m = s[ch] / s[3];
+        a[ch] += m;
+        a[3] += m * m;
+      }
+      a[4] += 1;
+      std::fill(s, s + 4, 0.0);
+    }
+    w.touched.clear();
+  }
+  for (size_t cell = 0; cell < cells; cell++) {
+    const double* a = &w.views[cell * 5];
+    const double n = a[4];
+    w.spread[cell] = 0;
+    w.dof[cell] = 0;
+    if (n == 0) continue;
+    double mean[3];
+    for (int ch = 0; ch < 3; ch++) {
+      mean[ch] = a[ch] / n;
+      colour[(cell * P + k) * 3 + ch] = float(mean[ch]);
+    }
+    if (n < c.minViews) continue;
+    // Divided by n - 1 in the window below: the unbiased variance. Divided by n, cells
+    // fewer views see (nearer the cameras, at the footprints' edges) would look better.
+    w.spread[cell] = std::max(0.0, a[3] - n * (mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]));
+    w.dof[cell] = n - 1;
+  }
+  // The window's sums, along x and then along y.
+  const long R = long(c.windowRadius), X = long(map.cellsX), Y = long(map.cellsY);
+  for (long cy = 0; cy < Y; cy++)
+    for (long cx = 0; cx < X; cx++) {
+      double s = 0, n = 0;
+      for (long wx = std::max(0L, cx - R); wx <= std::min(X - 1, cx + R); wx++) {
+        s += w.spread[size_t(cy * X + wx)];
+        n += w.dof[size_t(cy * X + wx)];
+      }
+      w.rowSpread[size_t(cy * X + cx)] = s;
+      w.rowDof[size_t(cy * X + cx)] = n;
+    }
+  for (long cy = 0; cy < Y; cy++)
+    for (long cx = 0; cx < X; cx++) {
+      double s = 0, n = 0;
+      for (long wy = std::max(0L, cy - R); wy <= std::min(Y - 1, cy + R); wy++) {
+        s += w.rowSpread[size_t(wy * X + cx)];
+        n += w.rowDof[size_t(wy * X + cx)];
+      }
+      if (n > 0) cost[size_t(cy * X + cx) * P + k] = s / n;
+    }
+}
+
+}  // namespace
+
 DepthMap planeSweepDepth(const std::vector<SweepView>& views, PlaneSweepConfig c) {
   if (!(c.xMax > c.xMin && c.yMax > c.yMin && c.zMax > c.zMin)) fail("plane sweep: empty area or depth range");
   if (c.planes < 3) fail("plane sweep: needs at least 3 planes");
@@ -53,68 +144,25 @@ DepthMap planeSweepDepth(const std::vector<SweepView>& views, PlaneSweepConfig c
   map.cellSize = c.cellSize;
   map.cellsX = uint32_t(std::max(1.0, std::ceil((c.xMax - c.xMin) / c.cellSize)));
   map.cellsY = uint32_t(std::max(1.0, std::ceil((c.yMax - c.yMin) / c.cellSize)));
-  const size_t cells = size_t(map.cellsX) * map.cellsY, V = views.size(), P = c.planes;
+  const size_t cells = size_t(map.cellsX) * map.cellsY, P = c.planes;
   const double spacing = (c.zMax - c.zMin) / double(P);
   const double inf = std::numeric_limits<double>::infinity();
 
-  std::vector<double> cost(cells * P, inf);   // windowed variance of the views' mean colours
+  std::vector<double> cost(cells * P, inf);  // windowed variance of the views' mean colours
   std::vector<float> colour(cells * P * 3, 0.0f);
-  std::vector<double> sums(cells * V * 4);    // per (cell, view): r, g, b, count
-  std::vector<double> spread(cells), viewsIn(cells);  // per cell: sum of squares, degrees of freedom
-  const long R = long(c.windowRadius);
-  for (size_t k = 0; k < P; k++) {
-    const double z = c.zMin + (double(k) + 0.5) * spacing;
-    std::fill(sums.begin(), sums.end(), 0.0);
-    for (size_t v = 0; v < V; v++) {
-      const Image& im = *views[v].image;
-      for (size_t i = 0; i < views[v].rays.size(); i++) {
-        double x, y;
-        if (!rayAtPlane(views[v].rays[i], z, x, y)) continue;
-        long cell = map.cellAt(x, y);
-        if (cell < 0) continue;
-        double* s = &sums[(size_t(cell) * V + v) * 4];
-        for (int ch = 0; ch < 3; ch++) s[ch] += im.pixels[i * size_t(im.channels) + ch];
-        s[3] += 1;
-      }
-    }
-    // Per cell: the spread of the views' mean colours about their mean, and its colour.
-    for (size_t cell = 0; cell < cells; cell++) {
-      double mean[3] = {0, 0, 0}, n = 0, sq = 0;
-      for (size_t v = 0; v < V; v++) {
-        const double* s = &sums[(cell * V + v) * 4];
-        if (s[3] == 0) continue;
-        for (int ch = 0; ch < 3; ch++) {
-          double m = s[ch] / s[3];
-          mean[ch] += m;
-          sq += m * m;
-        }
-        n += 1;
-      }
-      spread[cell] = 0;
-      viewsIn[cell] = 0;
-      if (n == 0) continue;
-      for (int ch = 0; ch < 3; ch++) {
-        mean[ch] /= n;
-        colour[(cell * P + k) * 3 + ch] = float(mean[ch]);
-      }
-      if (n < c.minViews) continue;
-      // Divided by n - 1 in the window below: the unbiased variance. Divided by n, cells
-      // fewer views see (nearer the cameras, at the footprints' edges) would look better.
-      spread[cell] = std::max(0.0, sq - n * (mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]));
-      viewsIn[cell] = n - 1;
-    }
-    for (long cy = 0; cy < long(map.cellsY); cy++)
-      for (long cx = 0; cx < long(map.cellsX); cx++) {
-        double s = 0, n = 0;
-        for (long wy = std::max(0L, cy - R); wy <= std::min(long(map.cellsY) - 1, cy + R); wy++)
-          for (long wx = std::max(0L, cx - R); wx <= std::min(long(map.cellsX) - 1, cx + R); wx++) {
-            size_t w = size_t(wy) * map.cellsX + size_t(wx);
-            s += spread[w];
-            n += viewsIn[w];
-          }
-        if (n > 0) cost[(size_t(cy) * map.cellsX + size_t(cx)) * P + k] = s / n;
-      }
-  }
+  // The planes on threads, each a contiguous run of them (so that two threads seldom write
+  // neighbouring costs). A plane's result does not depend on the thread count. At most 8
+  // threads: each one's scratch is 13 doubles per cell.
+  const size_t threads = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, std::min<size_t>(8, P));
+  std::vector<PlaneScratch> scratch(threads, PlaneScratch(cells));
+  auto sweepPlanes = [&](size_t t) {
+    for (size_t k = t * P / threads; k < (t + 1) * P / threads; k++)
+      sweepPlane(views, map, c, k, c.zMin + (double(k) + 0.5) * spacing, scratch[t], cost, colour);
+  };
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; t++) pool.emplace_back(sweepPlanes, t);
+  sweepPlanes(0);
+  for (std::thread& t : pool) t.join();
 
   map.z.assign(cells, std::numeric_limits<double>::quiet_NaN());
   map.rgb.assign(cells * 3, 0.0f);
