@@ -192,7 +192,9 @@ const StrongWaveComparison& strongWaveComparison() {
 // refraction step (148 against 75 ms at 400 steps); the test took 940 s alone (2026-11-28,
 // +4.03 dB in its last suite run). Pinned to what the data gave on 2026-11-27 (16 x 2, 4
 // octaves: passed, 487 s alone then), 632 s alone; one run printed 20.87 against 15.95 dB (+4.92),
-// surface 0.27x the flat plane's.
+// surface 0.27x the flat plane's. In a CI-like run from a clean clone that day it failed once
+// far under the bars (16.77 against 16.07, +0.70 dB; surface 0.67x) and passed on its retry:
+// three passes and one failure at this size, two passes at 32 x 2, too few to tell them apart.
 // What the last steps add is the Gaussians' refit after the third restart (800 steps at
 // 3,000). Gradient sums are not deterministic, so one seed varies between runs: seed 1's
 // refraction arm spread over 18.77-21.20 dB in its ten runs at 4,000 steps with a surface
