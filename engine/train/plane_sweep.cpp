@@ -54,6 +54,19 @@ struct PlaneScratch {
   }
 };
 
+// out = in summed over 2R + 1 cells along one axis of an X x Y grid (step 1: along x; step X:
+// along y), the window cut at the grid's edges.
+void windowSums(const std::vector<double>& in, std::vector<double>& out, long X, long Y, long R, long step) {
+  const long length = step == 1 ? X : Y;
+  for (long cy = 0; cy < Y; cy++)
+    for (long cx = 0; cx < X; cx++) {
+      const long at = step == 1 ? cx : cy, cell = cy * X + cx;
+      double sum = 0;
+      for (long d = std::max(-R, -at); d <= std::min(R, length - 1 - at); d++) sum += in[size_t(cell + d * step)];
+      out[size_t(cell)] = sum;
+    }
+}
+
 // Plane k at height z: per cell, the views' mean colour there and the spread of the views'
 // mean colours about it; then the spread summed over a window of cells and divided by its
 // degrees of freedom, into cost[cell * planes + k].
@@ -105,27 +118,14 @@ void sweepPlane(const std::vector<SweepView>& views, const DepthMap& map, const 
     w.spread[cell] = std::max(0.0, a[3] - n * (mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]));
     w.dof[cell] = n - 1;
   }
-  // The window's sums, along x and then along y.
+  // The window's sums, along x and then along y (back into spread and dof).
   const long R = long(c.windowRadius), X = long(map.cellsX), Y = long(map.cellsY);
-  for (long cy = 0; cy < Y; cy++)
-    for (long cx = 0; cx < X; cx++) {
-      double s = 0, n = 0;
-      for (long wx = std::max(0L, cx - R); wx <= std::min(X - 1, cx + R); wx++) {
-        s += w.spread[size_t(cy * X + wx)];
-        n += w.dof[size_t(cy * X + wx)];
-      }
-      w.rowSpread[size_t(cy * X + cx)] = s;
-      w.rowDof[size_t(cy * X + cx)] = n;
-    }
-  for (long cy = 0; cy < Y; cy++)
-    for (long cx = 0; cx < X; cx++) {
-      double s = 0, n = 0;
-      for (long wy = std::max(0L, cy - R); wy <= std::min(Y - 1, cy + R); wy++) {
-        s += w.rowSpread[size_t(wy * X + cx)];
-        n += w.rowDof[size_t(wy * X + cx)];
-      }
-      if (n > 0) cost[size_t(cy * X + cx) * P + k] = s / n;
-    }
+  windowSums(w.spread, w.rowSpread, X, Y, R, 1);
+  windowSums(w.dof, w.rowDof, X, Y, R, 1);
+  windowSums(w.rowSpread, w.spread, X, Y, R, X);
+  windowSums(w.rowDof, w.dof, X, Y, R, X);
+  for (size_t cell = 0; cell < cells; cell++)
+    if (w.dof[cell] > 0) cost[cell * P + k] = w.spread[cell] / w.dof[cell];
 }
 
 }  // namespace
