@@ -12,6 +12,18 @@ namespace {
 glm::dvec3 vertexAt(const std::vector<float>& v, uint32_t i) { return {v[3 * i], v[3 * i + 1], v[3 * i + 2]}; }
 glm::dvec3 originOf(const GpuRay& r) { return {r.origin[0], r.origin[1], r.origin[2]}; }
 glm::dvec3 dirOf(const GpuRay& r) { return {r.dir[0], r.dir[1], r.dir[2]}; }
+
+// The box pulled in by eps times its coordinate scale on every side, never past its centre.
+void shrunkBox(const Box& x, double eps, glm::dvec3& lo, glm::dvec3& hi) {
+  lo = {x.minX, x.minY, x.minZ};
+  hi = {x.maxX, x.maxY, x.maxZ};
+  double scale = std::max({1.0, glm::length(lo), glm::length(hi)});
+  for (int a = 0; a < 3; a++) {
+    double in = std::min(eps * scale, 0.5 * (hi[a] - lo[a]));
+    lo[a] += in;
+    hi[a] -= in;
+  }
+}
 }  // namespace
 
 TriangleTraceReport compareTriangleHits(const std::vector<float>& vertices, const std::vector<uint32_t>& indices,
@@ -73,7 +85,8 @@ TriangleTraceReport compareTriangleHits(const std::vector<float>& vertices, cons
 }
 
 CandidateReport compareCandidates(const std::vector<Box>& boxes, const std::vector<GpuRay>& rays,
-                                  const std::vector<uint32_t>& counts, const std::vector<uint32_t>& candidates, uint32_t capacity) {
+                                  const std::vector<uint32_t>& counts, const std::vector<uint32_t>& candidates, uint32_t capacity,
+                                  double faceEps) {
   CandidateReport rep;
   rep.rays = rays.size();
   double total = 0;
@@ -89,6 +102,12 @@ CandidateReport compareCandidates(const std::vector<Box>& boxes, const std::vect
     for (size_t b = 0; b < boxes.size(); b++) {
       const Box& x = boxes[b];
       if (!overlapsBox(o, d, {x.minX, x.minY, x.minZ}, {x.maxX, x.maxY, x.maxZ}, rays[r].tmin, rays[r].tmax)) continue;
+      glm::dvec3 lo, hi;
+      shrunkBox(x, faceEps, lo, hi);
+      if (!overlapsBox(o, d, lo, hi, rays[r].tmin, rays[r].tmax)) {
+        rep.grazingPairs++;
+        continue;
+      }
       rep.expectedPairs++;
       if (!std::binary_search(got.begin(), got.end(), uint32_t(b))) {
         rep.missingPairs++;
