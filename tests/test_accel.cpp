@@ -159,8 +159,11 @@ void checkAabbCandidates(Context& ctx, std::mt19937& rng, bool presort) {
   CHECK(rep.expectedPairs > 2000);
   CHECK(rep.overflowRays == 0);
   CHECK(rep.missingPairs == 0);
-  // grazing pairs are measure-zero events: a handful at most, or the margin hides real misses
-  CHECK(rep.grazingPairs * 1000 < rep.expectedPairs);
+  // Grazing pairs are the ray chords within the margin of a face: about 0.1% of the pairs at
+  // 1e-5 (5 of 4,234 on seed 1243296222), tens of percent with a margin that hides real misses
+  // (1e-2: 2,721 against 1,492).
+  INFO(rep.grazingPairs << " grazing pairs of " << rep.expectedPairs);
+  CHECK(rep.grazingPairs * 100 < rep.expectedPairs);
 }
 }  // namespace
 
