@@ -5,9 +5,12 @@
 #   layered: widths REFRAX_HEIGHT_LAYERED_WIDTHS (any depth) x octaves REFRAX_HEIGHT_OCTAVES
 #   weight-gradient tiles: 1, 16, 32 outputs per block (any layer whose output count they divide),
 #            with float atomicAdd and with compare-and-swap adds
+# A network of fewer octaves runs on the next listed count's kernels ("padded kernels" in
+# engine/height/height_field.h): 6 serves the data-derived sizes 2-6, 8 serves 7-8 (full-size
+# presets derive 7: the loop-based forward there took 73% of a training step).
 set(REFRAX_HEIGHT_FUSED_WIDTHS 16 32 64 CACHE STRING "widths with fused straight-line height-field kernels")
 set(REFRAX_HEIGHT_LAYERED_WIDTHS 128 256 CACHE STRING "widths with layered straight-line height-field kernels")
-set(REFRAX_HEIGHT_OCTAVES 6 CACHE STRING "encoding octaves with straight-line height-field kernels")
+set(REFRAX_HEIGHT_OCTAVES 6 8 CACHE STRING "encoding octaves with straight-line height-field kernels")
 set(REFRAX_HEIGHT_MAX_FUSED_DEPTH 8 CACHE STRING "deepest fused straight-line height-field kernel")
 
 add_executable(refrax_generate_height_kernels ${CMAKE_SOURCE_DIR}/shaders/height/generate_height_kernels.cpp)

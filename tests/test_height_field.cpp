@@ -191,6 +191,22 @@ GPU_TEST_CASE("height field forward matches the double reference (generated fuse
   checkForward(ctx, rng, hf, 1000);
 }
 
+GPU_TEST_CASE("height field forward matches the double reference (padded kernels: fewer octaves than the generated ones)") {
+  // 3 and 5 octaves on the 6-octave kernels, 7 on the 8-octave ones (cmake/HeightKernels.cmake)
+  for (uint32_t octaves : {3u, 5u, 7u}) {
+    HeightField hf = createHeightField(ctx, randomConfig(rng, 16, 3, octaves), rng());
+    CAPTURE(octaves);
+    REQUIRE(hf.kernelOctaves == (octaves < 6 ? 6u : 8u));
+    REQUIRE(hf.forwardKernelName() == "height_fused_w16_d3_l" + std::to_string(hf.kernelOctaves));
+    checkForward(ctx, rng, hf, 1000);
+  }
+  // the layered form (width 256, its kernels shared with the case below)
+  HeightField wide = createHeightField(ctx, randomConfig(rng, 256, 2, 5), rng());
+  REQUIRE(wide.kernelOctaves == 6);
+  REQUIRE(wide.forwardKernelName() == "height_layer_*_w256");
+  checkForward(ctx, rng, wide, 3000, 7);
+}
+
 GPU_TEST_CASE("height field forward matches the double reference (generated layered kernels, width 256, two chunks)") {
   // The one width-256 case: lavapipe JIT-compiles its hidden-layer kernel for about a minute.
   HeightField hf = createHeightField(ctx, randomConfig(rng, 256, 3, 6), rng());
@@ -199,8 +215,10 @@ GPU_TEST_CASE("height field forward matches the double reference (generated laye
   checkForward(ctx, rng, hf, chunk + 777, 13);
 }
 
-GPU_TEST_CASE("height field backward matches finite differences and the analytic reference (tiles and loops, both atomic paths)") {
-  HeightFieldConfig c = randomConfig(rng, 16, 2, 6);  // generated fused pass 1 and 16-output gradient tiles
+namespace {
+// The device's weight gradient against central differences and the analytic reference, with
+// the generated kernels and the loop-based ones, float atomics and compare-and-swap adds.
+void checkBackward(Context& ctx, std::mt19937& rng, const HeightFieldConfig& c) {
   HeightField hf = createHeightField(ctx, c, rng());
   hf.backwardChunk = 320;  // several chunks, and several gradient slices in the first
   auto wf = downloadWeights(ctx, hf);
@@ -263,6 +281,19 @@ GPU_TEST_CASE("height field backward matches finite differences and the analytic
       if (std::abs(delta[j] - analytic[j]) > sumRounding * absSum[j] + 2e-7 * std::abs(start[j]) + 1e-12) far++;
     CHECK(far == 0);
   }
+}
+}  // namespace
+
+GPU_TEST_CASE("height field backward matches finite differences and the analytic reference (tiles and loops, both atomic paths)") {
+  checkBackward(ctx, rng, randomConfig(rng, 16, 2, 6));  // generated fused pass 1 and 16-output gradient tiles
+}
+
+// Padded kernels (height_field.h): 4 octaves on the 6-octave kernels, the first layer widened
+// with zero columns; pass 1 stores 26 encoding inputs per point, the tiles train the 18 real ones.
+GPU_TEST_CASE("height field backward on padded kernels matches finite differences and the analytic reference") {
+  HeightFieldConfig c = randomConfig(rng, 16, 2, 4);
+  REQUIRE(createHeightField(ctx, c, 1).kernelOctaves == 6);
+  checkBackward(ctx, rng, c);
 }
 
 GPU_TEST_CASE("height field save/load round-trips bitwise, bad files are refused") {

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "engine/base/error.h"
+#include "engine/height/height_encoding.h"
 #include "engine/height/height_field_kernels.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
@@ -21,8 +22,9 @@ constexpr uint32_t kGradientSlice = 256;
 // Backward scratch budget (floats): the chunk is as many points as fit.
 constexpr uint64_t kScratchFloats = uint64_t(8) << 20;
 
-uint64_t scratchFloatsPerPoint(const HeightFieldConfig& c) {
-  return heightInputCount(c) + 2ull * c.hiddenLayers * c.width + 1;
+// Room for the padded kernels' inputs (kernelOctaves >= octaves).
+uint64_t scratchFloatsPerPoint(const HeightFieldConfig& c, uint32_t kernelOctaves) {
+  return f32::heightInputCount(kernelOctaves) + 2ull * c.hiddenLayers * c.width + 1;
 }
 
 void requireBytes(const Buffer& b, uint64_t bytes, const char* what, const char* call) {
@@ -57,7 +59,13 @@ HeightField createHeightField(Context& ctx, const HeightFieldConfig& config, uin
   hf.weights = createBuffer(ctx, hf.parameterCount * sizeof(float));
   std::vector<float> w = initialHeightWeights(config, seed);
   upload(ctx, hf.weights, w.data(), w.size() * sizeof(float));
-  uint64_t perPoint = scratchFloatsPerPoint(config);
+  hf.kernelOctaves = heightKernelOctaves(config);
+  if (hf.kernelOctaves != config.octaves) {
+    HeightFieldConfig padded = config;
+    padded.octaves = hf.kernelOctaves;
+    hf.paddedWeights = createBuffer(ctx, heightParameterCount(padded) * sizeof(float));
+  }
+  uint64_t perPoint = scratchFloatsPerPoint(config, hf.kernelOctaves);
   uint64_t chunk = std::max<uint64_t>(64, std::min<uint64_t>(65536, kScratchFloats / perPoint) / 64 * 64);
   hf.backwardChunk = uint32_t(chunk);
   hf.scratch = createBuffer(ctx, chunk * perPoint * sizeof(float));
@@ -94,12 +102,13 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
     if (first > 0) cmdBarrier(cb);  // the previous chunk's gradient pass has read the scratch
     push.first = first;
     push.count = std::min(hf.backwardChunk, count - first);
-    cmdDispatch(cb, *backprop.pipeline, {bind(hf.weights), bind(points), bind(dLossdHeight), bind(hf.scratch)}, &push,
+    const Buffer& weights = backprop.padded ? cmdKernelWeights(cb, hf) : hf.weights;
+    cmdDispatch(cb, *backprop.pipeline, {bind(weights), bind(points), bind(dLossdHeight), bind(hf.scratch)}, &push,
                 groupsFor(push.count, backprop.groupSize));
     cmdBarrier(cb);
     profileStage(cb, *hf.ctx, "height backward: activations and deltas");
     if (useTiles) {
-      cmdHeightGradTiles(cb, hf, push.count, dLossdWeights);
+      cmdHeightGradTiles(cb, hf, push.count, backprop.scratchInputs, dLossdWeights);
       profileStage(cb, *hf.ctx, "height backward: weight gradient");
       continue;
     }

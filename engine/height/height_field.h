@@ -59,6 +59,15 @@ struct HeightField {
   uint32_t inputCount = 0;
   uint64_t parameterCount = 0;
   Buffer weights;  // parameterCount floats, layout above
+  // Padded kernels. The build generates straight-line kernels for a few octave counts only
+  // (cmake/HeightKernels.cmake); a network of fewer octaves than one of them runs on that
+  // one's kernels (kernelOctaves), on a copy of its weights whose first layer is widened with
+  // zero columns (paddedWeights, made before each forward and backward). The extra encoding
+  // inputs are silenced by the coarse-to-fine window too, whose a <= octaves closes every
+  // octave from `octaves` up. Why: the loop-based kernels run 10-20x slower on lavapipe, and
+  // the data's size (engine/train/model_sizing.h) picks any octave count.
+  uint32_t kernelOctaves = 0;  // == config.octaves when the kernels fit the network as it is
+  Buffer paddedWeights;        // present when kernelOctaves > config.octaves
   // Backward scratch: per point, every layer's input and every layer's output delta, for
   // backwardChunk points at a time (the weight gradient is then one GEMM per layer); the
   // layered forward reuses it. backwardChunk may be lowered (tests), never raised.

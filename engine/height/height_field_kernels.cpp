@@ -3,6 +3,7 @@
 #include <functional>
 
 #include "engine/base/error.h"
+#include "engine/height/height_encoding.h"
 #include "engine/height/height_field_kernels.h"
 #include "engine/height/height_kernel_shapes.h"
 #include "engine/vk/shader_table.h"
@@ -24,21 +25,23 @@ std::vector<SpecConstant> heightShapeConstants(const HeightFieldConfig& c) {
 HeightBackpropKernel heightBackpropKernel(const HeightField& hf) {
   const HeightFieldConfig& c = hf.config;
   const VkPhysicalDeviceLimits& limits = hf.ctx->properties.limits;
-  std::string fused = heightBackpropKernelName(c.width, c.hiddenLayers, c.octaves);
+  std::string fused = heightBackpropKernelName(c.width, c.hiddenLayers, hf.kernelOctaves);
+  const bool padded = hf.kernelOctaves != c.octaves;
+  // A padded pass 1 leaves a scratch layout only the gradient tiles read (their input stride is pushed).
   if (!hf.forceGenericBackward && c.width <= kHeightFusedMaxWidth && heightShaderEmbedded(fused) &&
-      limits.maxComputeWorkGroupInvocations >= kHeightKernelGroup && limits.maxComputeWorkGroupSize[0] >= kHeightKernelGroup &&
-      limits.maxComputeSharedMemorySize >= kHeightStageFloats * 4) {
+      (!padded || heightGradTilesAvailable(hf)) && limits.maxComputeWorkGroupInvocations >= kHeightKernelGroup &&
+      limits.maxComputeWorkGroupSize[0] >= kHeightKernelGroup && limits.maxComputeSharedMemorySize >= kHeightStageFloats * 4) {
     const ComputePipeline& p = heightPipeline(hf, fused, [&] {
       return createComputePipeline(*hf.ctx, fused.c_str(), {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                                    sizeof(HeightPush), {specFloat(3, c.leakySlope)});
     });
-    return {&p, kHeightKernelGroup};
+    return {&p, kHeightKernelGroup, f32::heightInputCount(hf.kernelOctaves), padded};
   }
   const ComputePipeline& p = heightPipeline(hf, "backprop", [&] {
     return createComputePipeline(*hf.ctx, "height_backprop", {kStorageBuffer, kStorageBuffer, kStorageBuffer, kStorageBuffer},
                                  sizeof(HeightPush), heightShapeConstants(hf.config));
   });
-  return {&p, 64};
+  return {&p, 64, hf.inputCount, false};
 }
 
 bool heightShaderEmbedded(const std::string& name) {

@@ -37,6 +37,13 @@ std::string heightForwardKernelName(const HeightField& hf);
 void cmdHeightForward(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
                       const Buffer& heights);
 
+// The octave count of the generated kernels that serve a network of c.octaves (c.octaves
+// itself where none is embedded at or above it): see "padded kernels" in height_field.h.
+uint32_t heightKernelOctaves(const HeightFieldConfig& c);
+// The weights the generated kernels read: hf.weights, or (recorded here, between barriers)
+// their padded copy when the kernels have more octaves than the network.
+const Buffer& cmdKernelWeights(VkCommandBuffer cb, const HeightField& hf);
+
 // The loop-based forward (any shape).
 const ComputePipeline& heightGenericForwardPipeline(const HeightField& hf);
 void cmdHeightForwardGeneric(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
@@ -46,6 +53,8 @@ void cmdHeightForwardGeneric(VkCommandBuffer cb, const HeightField& hf, HeightPu
 struct HeightBackpropKernel {
   const ComputePipeline* pipeline;
   uint32_t groupSize;
+  uint32_t scratchInputs;  // encoding inputs per point it stores in the scratch (the padded count for padded kernels)
+  bool padded;             // it reads the padded weights (cmdKernelWeights)
 };
 HeightBackpropKernel heightBackpropKernel(const HeightField& hf);
 bool heightShaderEmbedded(const std::string& name);
@@ -54,7 +63,7 @@ const ComputePipeline& heightWeightGradPipeline(const HeightField& hf);
 // Backward pass 2 by generated weight-gradient tiles (when the build has them and the device
 // allows): one dispatch per layer over the chunk's `count` points in the scratch.
 bool heightGradTilesAvailable(const HeightField& hf);
-void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, const Buffer& dLossdWeights);
+void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, uint32_t scratchInputs, const Buffer& dLossdWeights);
 
 // The pipeline `key` of the field, created by `make` on first use.
 const ComputePipeline& heightPipeline(const HeightField& hf, const std::string& key, const std::function<ComputePipeline()>& make);

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "engine/base/error.h"
+#include "engine/height/height_encoding.h"
 #include "engine/height/height_field_kernels.h"
 #include "engine/height/height_kernel_shapes.h"
 #include "engine/vk/shader_table.h"
@@ -29,8 +30,9 @@ ForwardForm forwardForm(const HeightField& hf) {
   bool fits = limits.maxComputeWorkGroupInvocations >= kHeightKernelGroup && limits.maxComputeWorkGroupSize[0] >= kHeightKernelGroup &&
               limits.maxComputeSharedMemorySize >= kHeightStageFloats * 4;
   if (hf.forceGenericForward || !fits) return ForwardForm::Generic;
-  if (c.width <= kHeightFusedMaxWidth && heightShaderEmbedded(heightFusedKernelName(c.width, c.hiddenLayers, c.octaves))) return ForwardForm::Fused;
-  if (heightShaderEmbedded(heightLayerFirstKernelName(c.width, c.octaves)) && heightShaderEmbedded(heightLayerHiddenKernelName(c.width)) &&
+  if (c.width <= kHeightFusedMaxWidth && heightShaderEmbedded(heightFusedKernelName(c.width, c.hiddenLayers, hf.kernelOctaves)))
+    return ForwardForm::Fused;
+  if (heightShaderEmbedded(heightLayerFirstKernelName(c.width, hf.kernelOctaves)) && heightShaderEmbedded(heightLayerHiddenKernelName(c.width)) &&
       heightShaderEmbedded(heightLayerLastKernelName(c.width)) && layeredChunk(hf) > 0)
     return ForwardForm::Layered;
   return ForwardForm::Generic;
@@ -45,10 +47,10 @@ const ComputePipeline& generatedPipeline(const HeightField& hf, const std::strin
 
 const ComputePipeline& fusedPipeline(const HeightField& hf) {
   const HeightFieldConfig& c = hf.config;
-  return generatedPipeline(hf, heightFusedKernelName(c.width, c.hiddenLayers, c.octaves), 3);
+  return generatedPipeline(hf, heightFusedKernelName(c.width, c.hiddenLayers, hf.kernelOctaves), 3);
 }
 const ComputePipeline& firstPipeline(const HeightField& hf) {
-  return generatedPipeline(hf, heightLayerFirstKernelName(hf.config.width, hf.config.octaves), 3);
+  return generatedPipeline(hf, heightLayerFirstKernelName(hf.config.width, hf.kernelOctaves), 3);
 }
 const ComputePipeline& hiddenPipeline(const HeightField& hf) { return generatedPipeline(hf, heightLayerHiddenKernelName(hf.config.width), 2); }
 const ComputePipeline& lastPipeline(const HeightField& hf) { return generatedPipeline(hf, heightLayerLastKernelName(hf.config.width), 4); }
@@ -59,20 +61,22 @@ uint32_t maxPointsPerDispatch(const HeightField& hf, uint32_t group) {
 
 void cmdFused(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count, const Buffer& heights) {
   const ComputePipeline& p = fusedPipeline(hf);
+  const Buffer& weights = cmdKernelWeights(cb, hf);
   uint32_t perDispatch = maxPointsPerDispatch(hf, kHeightKernelGroup);
   for (uint32_t first = 0; first < count; first += perDispatch) {
     push.first = first;
     push.count = std::min(perDispatch, count - first);
-    cmdDispatch(cb, p, {bind(hf.weights), bind(points), bind(heights)}, &push, groupsFor(push.count, kHeightKernelGroup));
+    cmdDispatch(cb, p, {bind(weights), bind(points), bind(heights)}, &push, groupsFor(push.count, kHeightKernelGroup));
   }
 }
 
 // Layer by layer through two activation regions of the scratch, a chunk of points at a time.
 void cmdLayered(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count, const Buffer& heights) {
   const HeightFieldConfig& c = hf.config;
-  const uint32_t W = c.width, I = hf.inputCount, G = heightLayerGroupOutputs(W), chunk = layeredChunk(hf);
+  const uint32_t W = c.width, I = f32::heightInputCount(hf.kernelOctaves), G = heightLayerGroupOutputs(W), chunk = layeredChunk(hf);
   const ComputePipeline &first = firstPipeline(hf), &hidden = hiddenPipeline(hf), &last = lastPipeline(hf);
   push.chunk = chunk;
+  const Buffer& weights = cmdKernelWeights(cb, hf);
   cmdBarrier(cb);  // earlier recorded work may still read the scratch
   for (uint32_t start = 0; start < count; start += chunk) {
     if (start > 0) cmdBarrier(cb);
@@ -83,7 +87,7 @@ void cmdLayered(VkCommandBuffer cb, const HeightField& hf, HeightPush push, cons
     for (uint32_t j0 = 0; j0 < W; j0 += G) {
       push.weightBase = j0 * I;
       push.outOffset = j0 * chunk;
-      cmdDispatch(cb, first, {bind(hf.weights), bind(points), bind(hf.scratch)}, &push, groups);
+      cmdDispatch(cb, first, {bind(weights), bind(points), bind(hf.scratch)}, &push, groups);
     }
     for (uint32_t l = 1; l < c.hiddenLayers; l++) {
       cmdBarrier(cb);
@@ -92,23 +96,50 @@ void cmdLayered(VkCommandBuffer cb, const HeightField& hf, HeightPush push, cons
         push.weightBase = layerBase + j0 * W;
         push.inOffset = in;
         push.outOffset = out + j0 * chunk;
-        cmdDispatch(cb, hidden, {bind(hf.weights), bind(hf.scratch)}, &push, groups);
+        cmdDispatch(cb, hidden, {bind(weights), bind(hf.scratch)}, &push, groups);
       }
       std::swap(in, out);
     }
     cmdBarrier(cb);
     push.weightBase = W * I + (c.hiddenLayers - 1) * W * W;
     push.inOffset = in;
-    cmdDispatch(cb, last, {bind(hf.weights), bind(points), bind(hf.scratch), bind(heights)}, &push, groups);
+    cmdDispatch(cb, last, {bind(weights), bind(points), bind(hf.scratch), bind(heights)}, &push, groups);
   }
 }
 
+struct PadPush {  // mirror of height_pad_weights.comp
+  uint32_t count, width, inputs, paddedInputs;
+};
+
 }  // namespace
+
+uint32_t heightKernelOctaves(const HeightFieldConfig& c) {
+  // Straight-line kernels exist for a few octave counts: the smallest at or above the network's.
+  for (uint32_t o = c.octaves; o <= c.octaves + 8; o++) {
+    if (c.width <= kHeightFusedMaxWidth && heightShaderEmbedded(heightFusedKernelName(c.width, c.hiddenLayers, o)) &&
+        heightShaderEmbedded(heightBackpropKernelName(c.width, c.hiddenLayers, o)))
+      return o;
+    if (c.width > kHeightFusedMaxWidth && heightShaderEmbedded(heightLayerFirstKernelName(c.width, o))) return o;
+  }
+  return c.octaves;
+}
+
+const Buffer& cmdKernelWeights(VkCommandBuffer cb, const HeightField& hf) {
+  if (hf.kernelOctaves == hf.config.octaves) return hf.weights;
+  const ComputePipeline& p = heightPipeline(hf, "pad", [&] {
+    return createComputePipeline(*hf.ctx, "height_pad_weights", {kStorageBuffer, kStorageBuffer}, sizeof(PadPush));
+  });
+  PadPush push{uint32_t(hf.paddedWeights.size / 4), hf.config.width, hf.inputCount, f32::heightInputCount(hf.kernelOctaves)};
+  cmdBarrier(cb);  // earlier recorded work may still read the padded copy, or write the weights
+  cmdDispatch(cb, p, {bind(hf.weights), bind(hf.paddedWeights)}, &push, groupsFor(push.count, 64));
+  cmdBarrier(cb);
+  return hf.paddedWeights;
+}
 
 std::string heightForwardKernelName(const HeightField& hf) {
   const HeightFieldConfig& c = hf.config;
   switch (forwardForm(hf)) {
-    case ForwardForm::Fused: return heightFusedKernelName(c.width, c.hiddenLayers, c.octaves);
+    case ForwardForm::Fused: return heightFusedKernelName(c.width, c.hiddenLayers, hf.kernelOctaves);
     case ForwardForm::Layered: return "height_layer_*_w" + std::to_string(c.width);
     default: return "height_forward_generic";
   }

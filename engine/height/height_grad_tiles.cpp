@@ -11,7 +11,7 @@ namespace refrax {
 namespace {
 
 struct GradPush {  // mirror of the push block in the generated height_grad_tile_* kernels
-  uint32_t count, n, m, xBase, dBase, weightBase;
+  uint32_t count, n, m, xBase, dBase, weightBase, xStride;
 };
 
 bool atomicAdds(const HeightField& hf) { return hf.ctx->caps.floatAtomicAdd && !hf.forceCompareSwapAdd; }
@@ -40,18 +40,20 @@ bool heightGradTilesAvailable(const HeightField& hf) {
   return true;
 }
 
-void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, const Buffer& dLossdWeights) {
+void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, uint32_t scratchInputs, const Buffer& dLossdWeights) {
   const HeightFieldConfig& c = hf.config;
-  const uint64_t C = hf.backwardChunk, W = c.width, I = hf.inputCount;
+  // I: the network's inputs (the weights' layout); S: the inputs per point in the scratch
+  // (more than I after a padded pass 1, whose extra inputs have no weights to train)
+  const uint64_t C = hf.backwardChunk, W = c.width, I = hf.inputCount, S = scratchInputs;
   const uint32_t tiles = groupsFor(count, kHeightGradTile);
   // Scratch offsets as in shaders/include/height_shape.glsl.
-  auto scratchX = [&](uint32_t l) { return C * (l == 0 ? 0 : I + (l - 1) * W); };
-  auto scratchD = [&](uint32_t l) { return C * (I + c.hiddenLayers * W + l * W); };
+  auto scratchX = [&](uint32_t l) { return C * (l == 0 ? 0 : S + (l - 1) * W); };
+  auto scratchD = [&](uint32_t l) { return C * (S + c.hiddenLayers * W + l * W); };
   for (uint32_t l = 0; l <= c.hiddenLayers; l++) {
     uint32_t n = uint32_t(l == 0 ? I : W), m = uint32_t(l == c.hiddenLayers ? 1 : W);
     uint32_t mb = heightGradBlock(m);
     GradPush push{count, n, m, uint32_t(scratchX(l)), uint32_t(scratchD(l)),
-                  uint32_t(l == 0 ? 0 : W * I + uint64_t(l - 1) * W * W)};
+                  uint32_t(l == 0 ? 0 : W * I + uint64_t(l - 1) * W * W), uint32_t(l == 0 ? S : n)};
     cmdDispatch(cb, tilePipeline(hf, mb), {bind(hf.scratch), bind(dLossdWeights)}, &push, tiles, groupsFor(n, kHeightGradLanes), m / mb);
   }
 }

@@ -323,7 +323,9 @@ std::string layerLast(uint32_t width) {
 // tile's deltas D[t][j0..j0+mb) are staged in shared memory (zero for points past the chunk's
 // count) and read at constant offsets, the lane's inputs X[t][k] are loaded straight; after
 // the tile, one float add per weight and lane. The shape (n inputs, m outputs) is pushed, so
-// one kernel per block size serves every layer of every width that mb divides.
+// one kernel per block size serves every layer of every width that mb divides; so is the
+// scratch's stride between points' inputs (xStride >= n: a padded first layer stores more
+// encoding inputs than the network has, engine/height/height_field.h).
 std::string gradTile(uint32_t mb, bool atomic) {
   const uint32_t T = refrax::kHeightGradTile, L = refrax::kHeightGradLanes;
   std::ostringstream h;
@@ -333,7 +335,7 @@ std::string gradTile(uint32_t mb, bool atomic) {
     << "#extension GL_GOOGLE_include_directive : require\n";
   if (atomic) h << "#extension GL_EXT_shader_atomic_float : require\n#define REFRAX_FLOAT_ATOMIC_ADD\n";
   h << "layout(local_size_x = " << L << ") in;\n"
-    << "layout(push_constant) uniform GradPush { uint count, n, m, xBase, dBase, weightBase; } pc;\n"
+    << "layout(push_constant) uniform GradPush { uint count, n, m, xBase, dBase, weightBase, xStride; } pc;\n"
     << "layout(std430, set = 0, binding = 0) readonly buffer Scratch { float scratch[]; };\n"
     << "#include \"height_grad_output.glsl\"\n"
     << "shared float sd[" << T * mb << "];\n"
@@ -356,7 +358,7 @@ std::string gradTile(uint32_t mb, bool atomic) {
   e.line("barrier();");
   for (uint32_t t = 0; t < T; t++) {
     std::string x = "x" + std::to_string(t);
-    e.line("float " + x + " = scratch[min(pc.xBase + (t0 + " + std::to_string(t) + "u) * pc.n + kc, last)];");
+    e.line("float " + x + " = scratch[min(pc.xBase + (t0 + " + std::to_string(t) + "u) * pc.xStride + kc, last)];");
     for (uint32_t j = 0; j < mb; j++) {
       std::string term = "sd[" + std::to_string(t * mb + j) + "] * " + x;
       e.line(t == 0 ? "float acc" + std::to_string(j) + " = " + term + ";" : "acc" + std::to_string(j) + " += " + term + ";");
