@@ -195,6 +195,10 @@ const StrongWaveComparison& strongWaveComparison() {
 // surface 0.27x the flat plane's. In a CI-like run from a clean clone that day it failed once
 // far under the bars (16.77 against 16.07, +0.70 dB; surface 0.67x) and passed on its retry:
 // three passes and one failure at this size, two passes at 32 x 2, too few to tell them apart.
+// Since the MLP runs on padded straight-line kernels (2026-11-28, these 4 octaves on the
+// 6-octave kernels), three runs of the refraction arm alone: 21.86, 22.01, 21.97 dB, surface
+// 0.27x, 0.22x, 0.25x the flat plane's, 248-271 s each; in a CI-like run the whole test passed
+// in 527 s (618 s before).
 // What the last steps add is the Gaussians' refit after the third restart (800 steps at
 // 3,000). Gradient sums are not deterministic, so one seed varies between runs: seed 1's
 // refraction arm spread over 18.77-21.20 dB in its ten runs at 4,000 steps with a surface
