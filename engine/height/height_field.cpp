@@ -96,13 +96,13 @@ void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, con
   const HeightBackpropKernel backprop = heightBackpropKernel(hf);
   const bool useTiles = heightGradTilesAvailable(hf);
   HeightPush push = basePush(hf);
+  const Buffer& weights = backprop.padded ? cmdKernelWeights(cb, hf) : hf.weights;  // once: every chunk reads the same copy
   cmdBarrier(cb);  // earlier recorded work (a layered forward) may still use the scratch
   const uint32_t maxGroups = hf.ctx->properties.limits.maxComputeWorkGroupCount[0];
   for (uint32_t first = 0; first < count; first += hf.backwardChunk) {
     if (first > 0) cmdBarrier(cb);  // the previous chunk's gradient pass has read the scratch
     push.first = first;
     push.count = std::min(hf.backwardChunk, count - first);
-    const Buffer& weights = backprop.padded ? cmdKernelWeights(cb, hf) : hf.weights;
     cmdDispatch(cb, *backprop.pipeline, {bind(weights), bind(points), bind(dLossdHeight), bind(hf.scratch)}, &push,
                 groupsFor(push.count, backprop.groupSize));
     cmdBarrier(cb);
