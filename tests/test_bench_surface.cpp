@@ -4,6 +4,8 @@
 #include <doctest/doctest.h>
 
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "engine/io/atomic_file.h"
 #include "tests/gpu_test.h"
@@ -35,4 +37,27 @@ TEST_CASE("bench surface: one CSV row per MLP width and grid, with stage times a
   CHECK(updateMs > 0);
   CHECK(traceMs > 0);
   CHECK(!std::getline(csv, extra));
+  // the raw triangle rate needs ray queries: without them its two columns stay empty (they read
+  // "nan" on the first GPU to run the bench, an H200 without ray queries)
+  std::vector<std::string> cols;
+  std::string col;
+  std::stringstream all(row.substr(row.find("\",") + 2));
+  while (std::getline(all, col, ',')) cols.push_back(col);
+  REQUIRE(cols.size() == 19);
+  bool raw = r.output.find("no ray queries: no raw rate") == std::string::npos;
+  CHECK(cols[11].empty() == !raw);
+  CHECK(cols[12].empty() == !raw);
+  if (raw) CHECK(std::stod(cols[11]) > 0);
+  // every stage line is a time measured on its own (the vertices and refit as a difference of two
+  // stamps read -0.02 to -0.12 ms on that GPU)
+  std::stringstream out(r.output);
+  std::string line;
+  int stages = 0;
+  while (std::getline(out, line))
+    if (line.rfind("      ", 0) == 0 && line.size() > 4 && line.compare(line.size() - 3, 3, " ms") == 0) {
+      INFO(line);
+      CHECK(std::stod(line.substr(line.find_last_of(' ', line.size() - 4) + 1)) >= 0);
+      stages++;
+    }
+  CHECK(stages >= 5);
 }
