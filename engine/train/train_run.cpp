@@ -102,9 +102,12 @@ std::string mirrorWarningLine(double mirrorRatio) {
 
 // The line after a restart step's --water-sign-check.
 std::string signCheckLine(const TrainSession::SignCheck& c) {
-  char text[400];
-  std::snprintf(text, sizeof text, "step %d: the training views' plane-sweep colour variance through the water's mirror image is %.3gx the learned water's: %s",
-                c.step, c.agreement.reference > 0 ? c.agreement.cost / c.agreement.reference : 0.0,
+  char text[480];
+  std::snprintf(text, sizeof text,
+                "step %d: the training views' plane-sweep colour variance through the learned water is %.3gx flat water's, "
+                "through its mirror image %.3gx the learned water's: %s",
+                c.step, c.flat.reference > 0 ? c.flat.cost / c.flat.reference : 0.0,
+                c.agreement.reference > 0 ? c.agreement.cost / c.agreement.reference : 0.0,
                 c.mirrored ? "the mirror image kept" : "the learned water kept");
   return text;
 }
@@ -179,7 +182,8 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
     nlohmann::json checks = nlohmann::json::array();
     for (const TrainSession::SignCheck& c : s.signChecks)
       checks.push_back({{"step", c.step}, {"learned_sweep_cost", c.agreement.reference}, {"mirror_sweep_cost", c.agreement.cost},
-                        {"cells", c.agreement.cells}, {"mirrored", c.mirrored}});
+                        {"cells", c.agreement.cells}, {"flat_ratio", c.flat.reference > 0 ? c.flat.cost / c.flat.reference : 0.0},
+                        {"mirrored", c.mirrored}});
     m["water_sign_checks"] = checks;  // this process's (a resumed run's start at its checkpoint)
   }
   if (!s.surfaceWatch.empty()) {

@@ -572,6 +572,7 @@ bool densifyStep(TrainSession& s, int t) {
 void checkWaterSign(TrainSession& s, int t) {
   TrainSession::SignCheck check;
   check.step = t;
+  check.flat = agreementWithFlatWater(s);  // recorded: does the learned water already fit worse than flat water?
   check.agreement = agreementOfMirror(s);
   const SweepAgreement& a = check.agreement;
   check.mirrored = a.cells > 0 && a.cost < kMirrorBetter * a.reference;

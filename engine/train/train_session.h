@@ -76,7 +76,8 @@ struct TrainSession : Model {
   // against the learned water's, and whether the mirror was kept.
   struct SignCheck {
     int step = 0;
-    SweepAgreement agreement;
+    SweepAgreement agreement;  // the mirror image (cost) against the learned water (reference)
+    SweepAgreement flat;       // the learned water (cost) against flat water (reference), before any mirroring
     bool mirrored = false;
   };
   std::vector<SignCheck> signChecks;
