@@ -44,7 +44,18 @@ TEST_CASE("a surface that leaves the scene stops training with a clear message, 
   CHECK(r.exitCode != 0);
   CHECK(r.output.find("the water surface diverged at step") != std::string::npos);
   CHECK(r.output.find("--surface-lr") != std::string::npos);
+  CHECK(r.output.find("--surface-batch views") != std::string::npos);
   CHECK(!fs::exists(dir / "r/metrics.json"));
+
+  // With surface batches already on, the message does not advise them again.
+  r = test::runCli("train " + data + " -o " + (dir / "b") +
+                   " --steps 20 --gaussians 500 --patch 16 --surface-lr 0.3 --surface-freeze 0 --surface-batch 2 --checkpoint-every 0");
+  INFO(r.output);
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find("the water surface diverged at step") != std::string::npos);
+  CHECK(r.output.find("one surface step per 2 steps") != std::string::npos);
+  CHECK(r.output.find("--surface-batch views") == std::string::npos);
+  CHECK(!fs::exists(dir / "b/metrics.json"));
 }
 
 TEST_CASE("--resume takes more steps, and refuses options that would change the run" * doctest::test_suite("one-backend")) {

@@ -468,12 +468,19 @@ void requireSurfaceInScene(TrainSession& s, int t) {
     s.surfaceShapeMeasured = true;
     return;
   }
-  char text[512];
+  // The advice names only what the run does not already use.
+  char remedy[160];
+  if (s.config.surfaceBatch == 1)
+    std::snprintf(remedy, sizeof remedy, "a lower --surface-lr (now %g) or --surface-batch views keeps the surface in the scene",
+                  s.config.surfaceLearningRate);
+  else
+    std::snprintf(remedy, sizeof remedy, "a lower --surface-lr (now %g, with one surface step per %d steps) may keep the surface in the scene",
+                  s.config.surfaceLearningRate, surfaceBatchSteps(s));
+  char text[640];
   std::snprintf(text, sizeof text,
                 "the water surface diverged at step %d: the heights the training views see run from %.3g to %.3g m%s, outside the scene "
-                "between the Gaussians' box bottom (z = %.3g) and the lowest camera (z = %.3g); a lower --surface-lr (now %g) or "
-                "--surface-batch views keeps the surface in the scene",
-                t, low, high, finite ? "" : " (some not finite)", bottom, lowestCamera, s.config.surfaceLearningRate);
+                "between the Gaussians' box bottom (z = %.3g) and the lowest camera (z = %.3g); %s",
+                t, low, high, finite ? "" : " (some not finite)", bottom, lowestCamera, remedy);
   fail(text);
 }
 
