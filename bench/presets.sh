@@ -34,6 +34,9 @@
 #            refraction-sweep run), and four models: refraction-sweep, flat-water-sweep (the flat
 #            plane with the same start), no-refraction-sweep and dry-control. Writes
 #            bench/results/presets-cpu-full; with --presets a few at a time, its rows add up.
+#            Its summary sets each row beside the same preset and model in the 2026-11-27
+#            full-size table (bench/results/presets-full; flat-water-sweep beside its flat-water
+#            row, which had no sweep).
 #   --models, --presets  run only these models / presets, keeping the other rows of
 #            DIR/presets.csv (e.g. after changing one model's settings).
 #   --refraction-options replaces the refraction model's extra `refrax train` options ("" for
@@ -92,7 +95,9 @@ case $mode in
   full) steps=15000 common="" refraction="" restarts=5000,7500 ;;
   smoke) steps=20 common="--patch 16 --gaussians 300 --sh-degree 0" refraction=$short_run restarts=10 presets=(nerfrac-hybrid desk) ;;
 esac
+earlier_table=""  # a table whose rows the summary sets beside this one's
 if [ $cpu_full = 1 ]; then
+  earlier_table=$(dirname "$0")/results/presets-full/presets.csv
   # 64 x 64 patches lifted the method by about 2 dB over 32 x 32 at full size (two seeds) and
   # 6,000 of them are the full-size records' budget (docs/experiments/2026-11-27-dry-fit-patches.md)
   mode=cpu-full size=full steps=6000 restarts=2000,3200
@@ -182,10 +187,15 @@ else
 fi
 # The table: per preset, each model's final evaluation and the refraction model's gain over it.
 summary=$work/summary.md
-python3 - "$csv" "$summary" <<EOF
-import csv, sys
-path, summary = sys.argv[1:]
+python3 - "$csv" "$summary" "$earlier_table" <<EOF
+import csv, os, sys
+path, summary, earlier_path = sys.argv[1:]
 rows = [r for r in csv.DictReader(open(path)) if r["eval_step"] == r["config_steps"]]
+earlier = {}
+if earlier_path and os.path.exists(earlier_path):
+    earlier = {(r["preset"], r["variant"]): r for r in csv.DictReader(open(earlier_path)) if r["eval_step"] == r["config_steps"]}
+def earlier_row(preset, model):  # the same model, else the one it grew from (flat-water-sweep: flat-water)
+    return earlier.get((preset, model)) or earlier.get((preset, model.replace("-sweep", "")))
 def num(r, k, fmt):
     v = r.get(k, "")
     return format(float(v), fmt) if v not in ("", "nan") else "-"
@@ -202,23 +212,34 @@ lines = [
     "*flat start* is the surface RMSE of the initial flat plane (the water height the dataset gives).", "",
     "*surface correlation* is the learned heights' correlation with the true ones where the test rays meet the water (negative: waves upside down).",
     "*sweep ratio* is the run's own check of its water (docs/training.md, \"Is the learned water right?\"): above 1.02 it warns.", "",
-    "| preset | variant | test PSNR (dB) | gain (dB) | SSIM | surface RMSE | flat start | surface correlation | sweep ratio | training (s) | Gaussians |",
-    "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+]
+earlier_note = f"*earlier table*: the same preset and model in {earlier_path} (PSNR / SSIM / surface RMSE; the model in brackets when that table ran another)."
+if earlier:
+    lines += [earlier_note, ""]
+lines += [
+    "| preset | variant | test PSNR (dB) | gain (dB) | SSIM | surface RMSE | flat start | surface correlation | sweep ratio | training (s) | Gaussians |" + (" earlier table |" if earlier else ""),
+    "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |" + (" --- |" if earlier else ""),
 ]
 by = {(r["preset"], r["variant"]): r for r in rows}
+def earlier_cell(preset, model):
+    e = earlier_row(preset, model)
+    if e is None:
+        return " - |"
+    named = "" if e["variant"] == model else f' ({e["variant"]})'
+    return f' {num(e, "eval_psnr", ".2f")} / {num(e, "eval_ssim", ".3f")} / {num(e, "eval_surface_rmse", ".4f")}{named} |'
 for preset in dict.fromkeys(r["preset"] for r in rows):
     ref = by.get((preset, "refraction-sweep"))
     # the models run on some preset (the full-size table runs three of the five)
     for model in (m for m in ("refraction-sweep", "refraction-smooth", "refraction", "flat-water", "flat-water-sweep", "no-refraction", "no-refraction-sweep", "dry-control") if any(r["variant"] == m for r in rows)):
         r = by.get((preset, model))
         if r is None:
-            lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | | | |")
+            lines.append(f"| {preset} | {model} | not run (or failed: failures.txt) | | | | | | | | |" + (" |" if earlier else ""))
             continue
         gain = "" if model == "refraction-sweep" or ref is None else f'{float(ref["eval_psnr"]) - float(r["eval_psnr"]):+.2f}'
         lines.append(f'| {preset} | {model} | {num(r, "eval_psnr", ".2f")} | {gain} | {num(r, "eval_ssim", ".3f")} | '
                      f'{num(r, "eval_surface_rmse", ".4f")} | {num(r, "initial_flat_surface_rmse", ".4f")} | {num(r, "surface_correlation", ".2f")} | '
                      f'{num(r, "surface_sweep_ratio", ".3f")} | '
-                     f'{num(r, "training_seconds", ".0f")} | {r.get("gaussians", "-")} |')
+                     f'{num(r, "training_seconds", ".0f")} | {r.get("gaussians", "-")} |' + (earlier_cell(preset, model) if earlier else ""))
 open(summary, "w").write("\n".join(lines) + "\n")
 EOF
 mv "$summary" "$out/summary.md.tmp" && mv "$out/summary.md.tmp" "$out/summary.md"
