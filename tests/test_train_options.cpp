@@ -42,7 +42,7 @@ const std::map<std::string, std::pair<std::string, std::string>> kSamples = {
     {"octaves-open-until", {"13", "-2"}}, {"sh-interval", {"14", "-2"}}, {"density-reset-every", {"15", "-2"}},
     {"density-reset-until", {"16", "-2"}}, {"density-decay-every", {"17", "-2"}}, {"densify-from", {"18", "-2"}},
     {"densify-every", {"19", "-2"}}, {"densify-until", {"20", "-2"}}, {"no-densify", {"", ""}},
-    {"densify-grad", {"0.001", "nan"}}, {"prune-every", {"21", "-2"}}, {"prune-large-from", {"22", "-2"}},
+    {"densify-grad", {"0.001", "nan"}}, {"densify-strategy", {"mcmc", "gsplat"}}, {"prune-every", {"21", "-2"}}, {"prune-large-from", {"22", "-2"}},
     {"lr-steps", {"23", "-2"}}, {"restart-gaussians", {"30,60", "5,x"}}, {"progress-every", {"7", "0"}},
     {"eval-every", {"8", "-1"}}, {"checkpoint-every", {"9", "-1"}},
 };

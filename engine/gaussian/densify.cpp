@@ -6,6 +6,7 @@
 #include <string>
 
 #include "engine/base/error.h"
+#include "engine/base/portable_random.h"
 #include "engine/gaussian/gaussian_math.h"
 
 namespace refrax {
@@ -21,14 +22,6 @@ double logit(double p) { return std::log(p / (1.0 - p)); }
 float largestSigma(const float* g) {
   const float* s = g + f32::kGaussLogScale;
   return std::exp(std::max(s[0], std::max(s[1], s[2])));
-}
-
-// Standard normal from 2 x 24 random bits (Box-Muller): the same numbers on every standard
-// library, unlike std::normal_distribution.
-double standardNormal(std::mt19937& rng) {
-  double u1 = (double(rng() >> 8) + 0.5) / 16777216.0;  // (0, 1)
-  double u2 = double(rng() >> 8) / 16777216.0;          // [0, 1)
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
 }
 
 // A child of a split: mean drawn from N(mean, R S^2 R^T), sigmas divided by `divisor`.

@@ -62,6 +62,12 @@ void tableAdamStep(TableAdam& adam, std::vector<float>& params, const std::vecto
   }
 }
 
+double groupLearningRate(const TableAdam& adam, const std::string& name) {
+  for (const auto& g : adam.groups)
+    if (g.name == name) return g.lr.at(g.step);
+  fail("Adam table: no group '" + name + "'");
+}
+
 void resetAdamColumns(TableAdam& adam, const std::string& name) {
   const size_t w = adam.rowWidth;
   for (auto& g : adam.groups) {

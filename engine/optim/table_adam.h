@@ -35,6 +35,8 @@ TableAdam createGaussianAdam(double extent, int lrSteps, size_t count);
 // One update of every group from `grads` (the table's layout; non-finite gradients count as
 // 0, so one bad ray cannot poison a parameter).
 void tableAdamStep(TableAdam& adam, std::vector<float>& params, const std::vector<float>& grads, const AdamSettings& settings = {});
+// The learning rate the named group's last update took (fails for an unknown name).
+double groupLearningRate(const TableAdam& adam, const std::string& name);
 // Zero moments (and step) of one group, as 3DGS's replacement of the density tensor at a reset.
 void resetAdamColumns(TableAdam& adam, const std::string& name);
 // Rows for a rebuilt table (densification): row i from old row sourceRow[i], or zero moments

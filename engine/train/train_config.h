@@ -125,6 +125,9 @@ struct TrainConfig {
   double densityLossWeight = 0.007;
   bool densify = true;             // clone/split/prune (engine/gaussian/densify.h)
   double densifyGradThreshold = 3e-4;
+  // 3dgs: clone, split, prune and density resets (engine/gaussian/densify.h, the reference);
+  // mcmc: relocation, growth and position noise (engine/gaussian/mcmc.h), at the same steps.
+  std::string densifyStrategy = "3dgs";
 
   // Batching: 0 trains on whole images; P > 0 on one random P x P patch of the image per step
   // (SSIM needs an image-shaped batch: a patch keeps its window statistics; about P^2 / (w h)

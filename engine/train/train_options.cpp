@@ -321,6 +321,11 @@ std::vector<TrainOption> makeTable() {
   t.push_back(shown(required(real("densify-grad", "densify_grad_threshold", "X", "clone/split threshold on the mean positional-gradient statistic",
                                   field(&TrainConfig::densifyGradThreshold), 0, false, inf, false)),
                     "3e-4"));
+  t.push_back(choice("densify-strategy", "densify_strategy", "KIND",
+                     "3dgs (clone, split, prune, density resets: the reference) or mcmc (3DGS-MCMC: Gaussians under 0.005 density "
+                     "relocated onto live ones, the count grown 5% per densification up to --max-gaussians, noise on the nearly "
+                     "transparent ones' positions; no prune, no density reset)",
+                     field(&TrainConfig::densifyStrategy), {"3dgs", "mcmc"}));
   t.push_back(step("prune-every", "prune_interval", "prune low-density Gaussians every N steps (densify-from..densify-until)",
                    &ScheduleSteps::pruneInterval, "100"));
   t.push_back(step("prune-large-from", "prune_large_from", "also prune Gaussians larger than 10% of the extent from step N",

@@ -205,10 +205,14 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   dc.decayFrom = k.densityDecayInterval > 0 ? 0 : kNever;
   dc.decayInterval = uint32_t(std::max(1, k.densityDecayInterval));
   dc.resetDensity = float(config.densityResetValue);
-  dc.resetFrom = config.densify && k.densityResetInterval > 0 ? 0 : kNever;
+  // MCMC keeps every Gaussian (it relocates the transparent ones), so it resets no density.
+  const bool mcmc = config.densifyStrategy == "mcmc";
+  dc.resetFrom = config.densify && !mcmc && k.densityResetInterval > 0 ? 0 : kNever;
   dc.resetUntil = uint32_t(std::max(0, k.densityResetUntil - 1));
   dc.resetInterval = uint32_t(std::max(1, k.densityResetInterval));
   validateDensifyConfig(dc);
+  s->mcmcConfig.maxGaussians = config.maxGaussians;
+  validateMcmcConfig(s->mcmcConfig);
 
   allocateBatchBuffers(*s, s->capacity);
   s->lossPipelines = createLossPipelines(ctx);
@@ -544,13 +548,29 @@ double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
     s.densifyStats[i + 1] += stats[i + 1];      // the count of rays
   }
   tableAdamStep(s.gaussianAdam, s.gaussians.params, grads);
+  if (c.densify && c.densifyStrategy == "mcmc")
+    mcmcPositionNoise(s.gaussians, s.mcmcConfig, groupLearningRate(s.gaussianAdam, "position"), s.rng);
   applyDensitySchedule(s, t);
   return densityLoss;
 }
 
-// Clone/split/prune when due (3DGS strategy); true when the table's rows changed.
+// MCMC relocation and growth when due; true when rows were added or moved (relocated rows
+// jump across the scene: the proxies are rebuilt rather than refitted).
+bool mcmcStep(TrainSession& s, int t) {
+  if (!densifyDue(s.densifyConfig, uint32_t(t))) return false;
+  HostStage h(*s.ctx, "densification (host)");
+  std::vector<uint32_t> rowMap;
+  s.lastMcmc = mcmcDensify(s.gaussians, s.mcmcConfig, s.rng, rowMap);
+  remapTableAdamRows(s.gaussianAdam, rowMap);
+  s.densifyStats.assign(rowMap.size() * 2, 0.0f);  // unused by MCMC; kept one pair per Gaussian
+  return s.lastMcmc.after != s.lastMcmc.before || s.lastMcmc.relocated > 0;
+}
+
+// Clone/split/prune when due (3DGS strategy), or MCMC's relocation and growth; true when the
+// table's rows changed.
 bool densifyStep(TrainSession& s, int t) {
   const TrainConfig& c = s.config;
+  if (c.densifyStrategy == "mcmc") return c.densify && c.schedule.densifyInterval > 0 && mcmcStep(s, t);
   bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
   bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
   if (!cloneSplit && !prune) return false;

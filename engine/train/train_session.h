@@ -27,6 +27,7 @@
 #include "engine/camera/camera_rays.h"
 #include "engine/dataset/dataset.h"
 #include "engine/gaussian/densify.h"
+#include "engine/gaussian/mcmc.h"
 #include "engine/gaussian/gaussian_trace.h"
 #include "engine/height/height_field.h"
 #include "engine/loss/image_loss.h"
@@ -101,6 +102,9 @@ struct TrainSession : Model {
   std::vector<double> anchorWeights;
   DensifyConfig densifyConfig;
   DensifyStats lastDensify;
+  // --densify-strategy mcmc (engine/gaussian/mcmc.h): at densifyConfig's densification steps.
+  McmcConfig mcmcConfig;
+  McmcStats lastMcmc;
 
   // The learned water's shape over the seen water as of its last surface step (measured by the
   // divergence check, which reads the heights anyway), and the run's series of it with the
