@@ -100,10 +100,10 @@ McmcStats mcmcDensify(GaussianSet& set, const McmcConfig& config, std::mt19937& 
   }
 
   // Growth: growFraction more rows, copies of live ones (as relocated).
-  const size_t target = std::min<size_t>(config.maxGaussians, n + size_t(std::floor(double(n) * config.growFraction)));
-  DensitySampler growable(set, config.minDensity);  // shared densities may fall under the dead line
-  if (target > n && !growable.empty()) {
-    const DensitySampler& live = growable;
+  size_t target = std::min<size_t>(config.maxGaussians, n + size_t(std::floor(double(n) * config.growFraction)));
+  if (target > n) {
+    DensitySampler live(set, config.minDensity);  // shared densities may have fallen under the dead line
+    if (live.empty()) target = n;
     std::vector<std::vector<uint32_t>> copiesOf(n);
     for (size_t row = n; row < target; row++) copiesOf[live.draw(rng)].push_back(uint32_t(row));
     set.params.resize(target * kGaussianFloats);
