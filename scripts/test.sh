@@ -31,11 +31,19 @@ fi
 export MESA_SHADER_CACHE_DIR=${MESA_SHADER_CACHE_DIR:-$PWD/.cache/mesa-shader-cache}
 mkdir -p "$MESA_SHADER_CACHE_DIR"
 echo "test.sh: Mesa shader cache in $MESA_SHADER_CACHE_DIR${MESA_SHADER_CACHE_DISABLE:+ (disabled: MESA_SHADER_CACHE_DISABLE=$MESA_SHADER_CACHE_DISABLE)}"
+# Each part prints its time ("test.sh: ... took N s"): CI's log then says where its hour goes.
+timed() {
+  local name=$1 start=$SECONDS rc=0
+  shift
+  "$@" || rc=$?
+  echo "test.sh: $name took $((SECONDS - start)) s"
+  return $rc
+}
 cmake -S . -B "$build" "${cmake_args[@]}" >/dev/null
-cmake --build "$build" -j"$(nproc)"
+timed "the $build build" cmake --build "$build" -j"$(nproc)"
 cd "$build"
 if [ ${#ctest_args[@]} -gt 0 ]; then
-  ctest --output-on-failure -j"$(nproc)" "${ctest_args[@]}"
+  timed "the sanitizer suite" ctest --output-on-failure -j"$(nproc)" "${ctest_args[@]}"
 else
   # The "long" training tests run after the rest, one at a time: lavapipe spreads each over
   # every core, and beside other tests one took over its 20-minute limit in CI (alone, 5 min here).
@@ -45,12 +53,12 @@ else
   one_backend=$(./tests/refrax_tests --list-test-cases --test-suite=one-backend | grep -v '^\[doctest\]\|^===' |
                 sed 's/[][\.*^$()+?{}|]/\\&/g' | paste -sd'|')
   status=0
-  ctest --output-on-failure -j"$(nproc)" -LE long -E "^compute:" || status=$?
-  ctest --output-on-failure -j"$(nproc)" -R "^compute:" -E "^compute:(${one_backend:-none})\$" -LE long || status=$?
+  timed "the first pass" ctest --output-on-failure -j"$(nproc)" -LE long -E "^compute:" || status=$?
+  timed "the compute-backend pass" ctest --output-on-failure -j"$(nproc)" -R "^compute:" -E "^compute:(${one_backend:-none})\$" -LE long || status=$?
   # The long test's claim (refraction gains 3 dB over straight rays) is measured on training
   # whose gradient sums are not deterministic: its gain spread over +2.7 to +4.9 dB in its runs
   # (tests/test_train.cpp), so one run in ten or so lands under the bar. A failure is rerun
   # once; two in a row fail the suite.
-  ctest --output-on-failure -L long -E "^compute:" --repeat until-pass:2 || status=$?
+  timed "the long test" ctest --output-on-failure -L long -E "^compute:" --repeat until-pass:2 || status=$?
   exit $status
 fi
