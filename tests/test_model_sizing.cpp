@@ -57,15 +57,16 @@ TEST_CASE("model sizing: a pixel's footprint on the water is height / focal stra
 TEST_CASE("model sizing: octaves, grid, subdivision and Gaussians follow the footprint and the image size") {
   // Footprint 0.01 m on a 2 m domain: the shortest resolvable wave is 22 x 0.01 = 0.22 m;
   // 2 / 2^(L-1) <= 0.22 first at L = 5 (0.125 m; L = 4 gives 0.25). Grid 2^5 = 32 cells of
-  // 0.0625 m; 0.0625 / 2^K nearest 2 x 0.01 at K = 2 (log2 3.1 = 1.6). 640 x 480 / 64 = 4,800.
+  // 0.0625 m; 0.0625 / 2^K nearest 2 x 0.01 at K = 2 (log2 3.1 = 1.6). 640 x 480 / 8 = 38,400
+  // Gaussians (38,000 to two significant figures), drawn whole at the start and kept as the cap.
   ModelSizing s = sizeModelFromData({nadirCamera(5, 500, 640, 480)}, 0, kDomain);
   CHECK(s.pixelFootprint == doctest::Approx(0.01));
   CHECK(s.pixelsPerView == 307200);
   CHECK(s.mlpOctaves == 5);
   CHECK(s.gridCells == 32);
   CHECK(s.subdivisionLevels == 2);
-  CHECK(s.initialGaussians == 4800);
-  CHECK(s.maxGaussians == 38400);
+  CHECK(s.initialGaussians == 38000);
+  CHECK(s.maxGaussians == 38000);
   REQUIRE(s.choices.size() == sizedConfigKeys().size());
   for (size_t i = 0; i < s.choices.size(); i++) {
     CHECK(s.choices[i].key == sizedConfigKeys()[i]);
@@ -75,12 +76,13 @@ TEST_CASE("model sizing: octaves, grid, subdivision and Gaussians follow the foo
   CHECK(sizeModelFromData({nadirCamera(1.25, 500, 640, 480)}, 0, kDomain).mlpOctaves == 7);
   // A small image: at least 1,000 Gaussians; a far camera: at least 2 octaves, no subdivision.
   ModelSizing far = sizeModelFromData({nadirCamera(200, 500, 64, 64)}, 0, kDomain);
-  CHECK(far.initialGaussians == 1000);
+  CHECK(far.initialGaussians == 1000);  // 4,096 / 8 = 512
+  CHECK(far.maxGaussians == 1000);
   CHECK(far.mlpOctaves == kMinOctaves);
   CHECK(far.gridCells == 4);
   CHECK(far.subdivisionLevels == 0);
   // Counts are rounded to two significant figures.
-  CHECK(sizeModelFromData({nadirCamera(5, 500, 1001, 999)}, 0, kDomain).initialGaussians == 16000);  // 15,625.4
+  CHECK(sizeModelFromData({nadirCamera(5, 500, 1001, 999)}, 0, kDomain).initialGaussians == 120000);  // 124,999.9
 }
 
 // A default configuration, changed by `given`, sized from one nadir view (footprint 0.01 m over
@@ -110,7 +112,7 @@ TEST_CASE("model sizing: only the options left to the data change, and a given c
   CHECK(c.gridCells == 64);  // given
   CHECK(c.subdivisionLevels == 2);
   CHECK(c.initialGaussians == 20000);
-  CHECK(c.maxGaussians == 38400);
+  CHECK(c.maxGaussians == 38000);
   CHECK(c.modelSizing["pixel_footprint"].get<double>() == doctest::Approx(0.01));
   CHECK(c.modelSizing["derived"].size() == 3);
   CHECK(c.modelSizing["derived"]["mlp_octaves"]["value"].get<double>() == 5);
@@ -133,7 +135,7 @@ TEST_CASE("model sizing: only the options left to the data change, and a given c
   SUBCASE("straight rays size only the Gaussians, a flat plane no height field") {
     const std::set<std::string> all(sizedConfigKeys().begin(), sizedConfigKeys().end());
     TrainConfig d = sizedFromOneView(all, [](TrainConfig& g) { g.model = WaterModel::NoRefraction; });
-    CHECK(d.initialGaussians == 4800);
+    CHECK(d.initialGaussians == 38000);
     CHECK(d.mlpOctaves == TrainConfig{}.mlpOctaves);
     CHECK(d.gridCells == TrainConfig{}.gridCells);
     TrainConfig f = sizedFromOneView(all, [](TrainConfig& g) { g.model = WaterModel::FlatWater; });

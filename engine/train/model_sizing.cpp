@@ -86,16 +86,16 @@ ModelSizing sizeModelFromData(const std::vector<Camera>& cameras, double waterHe
   s.gridCells = 1u << s.mlpOctaves;
   const double levels = std::round(std::log2(side / s.gridCells / (kFinestCellInPixels * footprint)));
   s.subdivisionLevels = uint32_t(std::clamp(levels, 0.0, double(kMaxSubdivision)));
-  const double initial = double(s.pixelsPerView) / kPixelsPerInitialGaussian;
-  s.initialGaussians = roundCount(std::clamp(initial, double(kMinInitialGaussians), double(kMaxInitialGaussians)));
-  s.maxGaussians = s.initialGaussians * kGaussianGrowth;
+  const double budget = double(s.pixelsPerView) / kPixelsPerGaussian;
+  s.initialGaussians = roundCount(std::clamp(budget, double(kMinGaussians), double(kMaxGaussians)));
+  s.maxGaussians = s.initialGaussians;
 
   const double finestPeriod = side / double(1u << (s.mlpOctaves - 1));
   s.choices = {
       {"initial_gaussians", double(s.initialGaussians),
-       format("one per %.0f pixels of a %.0f-pixel training image (at least %.0f)", kPixelsPerInitialGaussian, double(s.pixelsPerView),
-              kMinInitialGaussians)},
-      {"max_gaussians", double(s.maxGaussians), format("densification may grow the initial count %.0fx", kGaussianGrowth)},
+       format("one per %.0f pixels of a %.0f-pixel training image (at least %.0f), the whole budget from the start", kPixelsPerGaussian,
+              double(s.pixelsPerView), kMinGaussians)},
+      {"max_gaussians", double(s.maxGaussians), "the initial count: densification refills what pruning frees"},
       {"mlp_octaves", double(s.mlpOctaves),
        format("finest period %.3g m (the %.3g m domain / 2^(octaves-1)), at most the shortest wave the views resolve: %.0f pixels of %.3g m "
               "on the water",

@@ -196,7 +196,7 @@ std::vector<TrainOption> makeTable() {
                                          field(&TrainConfig::seed), 0, LLONG_MAX)));
   t.push_back(shown(required(integer<uint32_t>("gaussians", "initial_gaussians", "N", "initial Gaussians, uniform in the box derived under the water",
                                                field(&TrainConfig::initialGaussians), 1, 50000000)),
-                    "from the data: one per 64 pixels of a training image"));
+                    "from the data: one per 8 pixels of a training image"));
   t.push_back(choice("init-depth", "init_depth", "KIND",
                      "the initial (and restarted) Gaussians' depth: box (uniform in the box, the reference) or sweep (a plane sweep of the "
                      "training views through the current water; docs/training.md)",
@@ -208,7 +208,7 @@ std::vector<TrainOption> makeTable() {
                            field(&TrainConfig::initPoints), true));
   t.push_back(shown(required(integer<uint32_t>("max-gaussians", "max_gaussians", "N", "cap on the Gaussian count (enforced by densification)",
                                                field(&TrainConfig::maxGaussians), 1, 100000000)),
-                    "from the data: 8 x the initial count (at least --gaussians)"));
+                    "from the data: the initial count (at least --gaussians)"));
   t.push_back(required(real("initial-density", "initial_density", "X", "initial Gaussian density", field(&TrainConfig::initialDensity), 0,
                             true, 1, true)));
   t.push_back(required(integer<uint32_t>("sh-degree", "max_sh_degree", "D", "highest SH degree (reached one degree per --sh-interval steps)",
