@@ -84,6 +84,7 @@ if [ $cpu_full = 1 ]; then
   done
   args=(--out "$(dirname "$0")/results/presets-cpu-full" ${args[@]+"${args[@]}"})  # a later --out wins
 fi
+[ $cpu_full = 0 ] || suite_mode_label=cpu-full
 suite_parse_args presets ${args[@]+"${args[@]}"}
 
 presets=(nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown)

@@ -48,7 +48,7 @@ suite_parse_args() {  # suite name, then the script's arguments
   device=$("$REFRAX" devices | sed -n '1s/^\[[0-9]*\] //p')  # sed reads every line: no SIGPIPE under pipefail
   suite_start=$(date +%s)
   load_at_start=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)
-  echo "$suite ($mode) on $device -> $out"
+  echo "$suite (${suite_mode_label:-$mode}) on $device -> $out"  # a script's own mode (presets.sh --cpu-full) names itself
 }
 
 suite_dataset() {  # preset [synth options...] -> prints the dataset folder (made once)
