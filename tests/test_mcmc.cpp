@@ -101,7 +101,7 @@ TEST_CASE("mcmc: dead Gaussians become copies of live ones, which share their ma
   CHECK(rowMap2 == rowMap);
 }
 
-TEST_CASE("mcmc: the count grows by the fraction up to the cap, and nothing changes when no Gaussian is live" * doctest::test_suite("one-backend")) {
+TEST_CASE("mcmc: the count grows by the fraction up to the cap, and nothing changes when no Gaussian is live or none is left live" * doctest::test_suite("one-backend")) {
   std::vector<double> densities(100, 0.5);
   GaussianSet set = gaussiansWithDensities(densities);
   McmcConfig config;
@@ -130,6 +130,16 @@ TEST_CASE("mcmc: the count grows by the fraction up to the cap, and nothing chan
   CHECK(stats.relocated == 0);
   CHECK(dead.params == deadBefore.params);
   CHECK(rowMap == std::vector<uint32_t>{0, 1});
+
+  // One barely live Gaussian shares its density with the dead one, and both copies fall under
+  // the dead line: growth then has no live row to copy and adds none.
+  GaussianSet barely = gaussiansWithDensities({0.0055, 0.001});
+  config.growFraction = 1;
+  stats = mcmcDensify(barely, config, rng, rowMap);
+  CHECK(stats.relocated == 1);
+  CHECK(densityAt(barely, 0) < config.minDensity);
+  CHECK(stats.added == 0);
+  CHECK(barely.count() == 2);
 }
 
 TEST_CASE("mcmc: the position noise moves the nearly transparent by lr x scale x sigma^2 and leaves the opaque in place" * doctest::test_suite("one-backend")) {

@@ -19,6 +19,7 @@ double densityOf(const float* g) { return f64::sigmoidOf(double(g[f32::kGaussLog
 struct DensitySampler {
   std::vector<uint32_t> rows;
   std::vector<double> cumulative;
+  DensitySampler() = default;
   DensitySampler(const GaussianSet& set, double minDensity) {
     double total = 0;
     for (size_t i = 0; i < set.count(); i++) {
@@ -100,10 +101,11 @@ McmcStats mcmcDensify(GaussianSet& set, const McmcConfig& config, std::mt19937& 
   }
 
   // Growth: growFraction more rows, copies of live ones (as relocated).
-  size_t target = std::min<size_t>(config.maxGaussians, n + size_t(std::floor(double(n) * config.growFraction)));
-  if (target > n) {
-    DensitySampler live(set, config.minDensity);  // shared densities may have fallen under the dead line
-    if (live.empty()) target = n;
+  const size_t target = std::min<size_t>(config.maxGaussians, n + size_t(std::floor(double(n) * config.growFraction)));
+  // The sampler is built only when there is room: at the cap (the default) growth is a no-op.
+  // Shared densities may have fallen under the dead line, so it is drawn afresh.
+  const DensitySampler live = target > n ? DensitySampler(set, config.minDensity) : DensitySampler();
+  if (!live.empty()) {
     std::vector<std::vector<uint32_t>> copiesOf(n);
     for (size_t row = n; row < target; row++) copiesOf[live.draw(rng)].push_back(uint32_t(row));
     set.params.resize(target * kGaussianFloats);
