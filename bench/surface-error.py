@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# The learned water's error, taken apart: over a square around the domain's centre, fits
+# The learned water's error, taken apart: over a square centred on x = y = 0 (the NeRFrac-like domains' centre), fits
 # learned = a * truth + b + c x + d y by least squares and prints the RMS error, the amplitude
 # ratio a (1: the waves' full height; 0: flat), the level and tilt part (b, c, d) and what is
 # left. Tells a surface that is right but too low (a < 1) from one that is level-shifted,
