@@ -463,6 +463,50 @@ TEST_CASE("train: --surface-batch steps the surface once per N steps, survives c
   }
 }
 
+TEST_CASE("train: --surface-until freezes the water after its last surface step, survives config.json, and is validated" * doctest::test_suite("one-backend")) {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  // The flat plane's first Adam step moves it by exactly the learning rate; stopped after step
+  // 1, three steps leave it there, where without the option the later steps move it on.
+  std::string flat = " --flat-water --surface-lr 0.02 --surface-freeze 0 --lr-steps 100000000 --gaussians 200 --patch 16 --checkpoint-every 0 --steps 3";
+  const double learned = test::trainAndReadMetrics(data, dir / "flat", flat)["flat_water_height"].get<double>();
+  CHECK(std::abs(learned) > 0.021);
+  CHECK(std::abs(test::trainAndReadMetrics(data, dir / "flat1", flat + " --surface-until 1")["flat_water_height"].get<double>()) ==
+        doctest::Approx(0.02).epsilon(1e-3));
+  // The height MLP: stopped after its surface step at step 2 (--surface-batch 2; N = 3 is no
+  // surface step), four steps end with the heights of two. (The schedules that scale with
+  // --steps are fixed, so the first two steps are alike.)
+  std::string mlp = " --surface-lr 0.01 --surface-freeze 0 --lr-steps 100000000 --face-normals-until 0 --mlp-width 16 --mlp-layers 1 "
+                    "--gaussians 200 --patch 16 --checkpoint-every 0 --surface-batch 2";
+  test::trainAndReadMetrics(data, dir / "mlp2", mlp + " --steps 2");
+  test::trainAndReadMetrics(data, dir / "until3", mlp + " --steps 4 --surface-until 3");
+  test::trainAndReadMetrics(data, dir / "mlp4", mlp + " --steps 4");
+  // (The gradient's float sums are not deterministic on every device: alike within 1e-6 m.)
+  const std::vector<float> two = learnedHeights(dir / "mlp2").heights;
+  auto largestChange = [&](const std::string& run) {
+    const std::vector<float> h = learnedHeights(dir / run).heights;
+    REQUIRE(h.size() == two.size());
+    float change = 0;
+    for (size_t i = 0; i < h.size(); i++) change = std::max(change, std::abs(h[i] - two[i]));
+    return change;
+  };
+  CHECK(largestChange("until3") < 1e-6f);
+  CHECK(largestChange("mlp4") > 1e-3f);
+
+  TrainConfig c = trainConfigFromJson(readJson(dir / "until3/config.json"), "config.json");
+  CHECK(c.schedule.surfaceUntil == 3);
+  nlohmann::json older = readJson(dir / "mlp4/config.json");
+  older["schedule"].erase("surface_until");  // a run written before the option learns to the end
+  CHECK(trainConfigFromJson(older, "config.json").schedule.surfaceUntil == 0);
+  c.schedule.surfaceFreeze = 3;
+  CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--surface-until must come after --surface-freeze (3)"), Error);
+  // A surface step never reached: refused before the run folder is made.
+  test::CliResult r = test::runCli("train " + data + " -o " + (dir / "none") + mlp + " --steps 4 --surface-until 1");
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find("--surface-until 1 leaves the surface no step") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "none"));
+}
+
 GPU_TEST_CASE("train: a checkpoint in the middle of a --surface-batch sum resumes with the sum" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");

@@ -107,6 +107,9 @@ void validateTrainConfig(const TrainConfig& c) {
   for (int a = 0; a < 3; a++) need(c.boxMax[a] >= c.boxMin[a], "the initial Gaussian box is empty");
   need(c.schedule.shDegreeInterval >= 1, "--sh-interval must be at least 1");
   need(c.schedule.lrSteps >= 1, "--lr-steps must be at least 1");
+  need(c.schedule.surfaceUntil >= 0, "--surface-until must be a step count >= 0");
+  need(c.schedule.surfaceUntil == 0 || c.schedule.surfaceUntil > c.schedule.surfaceFreeze,
+       "--surface-until must come after --surface-freeze (" + std::to_string(c.schedule.surfaceFreeze) + "), or the surface never learns");
   for (int r : c.schedule.gaussianRestarts) need(r > 0 && r < c.steps, "--restart-gaussians must be steps after the first and before the last");
   need(!c.waterSignCheck || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
        "--water-sign-check needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");

@@ -27,6 +27,7 @@ WaterModel parseWaterModel(const std::string& name);
 // An interval of 0 (explicit only) switches its event off; the SH interval must be >= 1.
 struct ScheduleSteps {
   int surfaceFreeze = -1;        // surface (and flat height) frozen before this step; reference 1,000
+  int surfaceUntil = 0;          // ... and frozen again after this step (0: learns to the end, the reference)
   int faceNormalsUntil = -1;     // flat face normals before this step; reference 7,500
   int octavesOpenUntil = -1;     // the height encoding's window fully open at this step; 7,500 (ours)
   int shDegreeInterval = -1;     // SH degree +1 every this many steps; reference 1,000

@@ -279,6 +279,15 @@ std::vector<TrainOption> makeTable() {
   }
   t.push_back(step("surface-freeze", "surface_freeze", "surface frozen for the first N steps", &ScheduleSteps::surfaceFreeze,
                    "1000 x steps/15000"));
+  {
+    // Not scaled with --steps, and absent from runs written before it: 0, the reference.
+    TrainOption o = step("surface-until", "surface_until",
+                         "surface (and flat height) frozen again after its last step at or before step N; the Gaussians train "
+                         "on through it (0: learns to the end; docs/training.md)",
+                         &ScheduleSteps::surfaceUntil, "0");
+    o.required = false;
+    t.push_back(o);
+  }
   t.push_back(step("face-normals-until", "face_normals_until", "flat face normals until step N, then interpolated",
                    &ScheduleSteps::faceNormalsUntil, "7500 x steps/15000"));
   t.push_back(real("surface-smoothness", "surface_smoothness", "X",

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 #include "engine/dataset/ground_truth.h"
 #include "engine/base/error.h"
@@ -213,6 +214,9 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   validateDensifyConfig(dc);
   s->mcmcConfig.maxGaussians = config.maxGaussians;
   validateMcmcConfig(s->mcmcConfig);
+  if (s->surface && k.surfaceUntil > 0 && surfaceBatchSteps(*s) > k.surfaceUntil - k.surfaceFreeze)
+    fail("--surface-until " + std::to_string(k.surfaceUntil) + " leaves the surface no step: it learns after --surface-freeze (" +
+         std::to_string(k.surfaceFreeze) + ") once every " + std::to_string(surfaceBatchSteps(*s)) + " steps (--surface-batch)");
 
   allocateBatchBuffers(*s, s->capacity);
   s->lossPipelines = createLossPipelines(ctx);
@@ -441,8 +445,15 @@ namespace {
 
 // Steps at which the water learns, and the steps that end a surface batch (one Adam step on
 // the gradient summed over the batch).
+// --surface-until N ends the water's learning with its last surface step at or before N, so
+// no step after it adds to a sum that no surface step would apply.
+int lastWaterStep(const TrainSession& s) {
+  const int freeze = s.config.schedule.surfaceFreeze, until = s.config.schedule.surfaceUntil;
+  if (until == 0) return std::numeric_limits<int>::max();
+  return freeze + (until - freeze) / surfaceBatchSteps(s) * surfaceBatchSteps(s);
+}
 bool waterLearnsAt(const TrainSession& s, int t) {
-  return s.surface && s.config.model != WaterModel::KnownWater && t > s.config.schedule.surfaceFreeze;
+  return s.surface && s.config.model != WaterModel::KnownWater && t > s.config.schedule.surfaceFreeze && t <= lastWaterStep(s);
 }
 bool surfaceStepAt(const TrainSession& s, int t) {
   return waterLearnsAt(s, t) && (t - s.config.schedule.surfaceFreeze) % surfaceBatchSteps(s) == 0;
