@@ -15,8 +15,9 @@
 #                           [--resume | --charts-only]
 #   (build first; --steps N overrides the step count for a quick check of the script;
 #   --resume keeps the rows of DIR/stability.csv and trains only the missing ones, with the
-#   same mode and steps as the run that wrote them; --charts-only redraws the per-sweep CSVs,
-#   charts and summary.md from DIR/stability.csv)
+#   same mode and steps as the run that wrote them, from a clean git checkout of the same
+#   training code; --charts-only redraws the per-sweep CSVs, charts and summary.md from
+#   DIR/stability.csv)
 # Default size (this 2-core lavapipe machine, about 15 min): nerfrac-primary-sine --size tiny
 #   at 48 x 48 px, 300 steps on 32 x 32 patches, 1,500 Gaussians, SH degree 0.
 # --medium (a GPU; issue 29): the full-size scene at 128 x 128 px, 4,000 steps on whole images,
@@ -54,7 +55,7 @@ while [ $# -gt 0 ]; do
     --jobs) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "stability.sh: --jobs needs a positive count" >&2; exit 2; }; jobs=$2; shift ;;
     --charts-only) charts_only=1 ;;
     --resume) resume=1 ;;
-    -h|--help) sed -n '2,35p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,36p' "$0"; exit 0 ;;
     *) echo "stability.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -186,6 +187,15 @@ PY
 
 # The device of this invocation, and with --resume those of the rows kept (run_info.txt).
 device=$("$REFRAX" devices 2>/dev/null | grep -m1 '^\[' | sed 's/^\[[0-9]*\] //; s/, Vulkan.*//')
+# The training code the rows come from: git's hash of the engine/, shaders/, trainer/ and
+# CMakeLists.txt trees ("unknown" outside a git checkout or with local changes there). --resume
+# keeps rows only from the same code: a changed model-size rule once slipped through under the
+# same settings text. (It names the checkout's code; build the binary from it.)
+code_paths=(engine shaders trainer CMakeLists.txt)
+code=unknown
+if git rev-parse --git-dir >/dev/null 2>&1 && [ -z "$(git status --porcelain -- "${code_paths[@]}")" ]; then
+  code=$(git ls-tree HEAD "${code_paths[@]}" | git hash-object --stdin)
+fi
 earlier_seconds=0
 if [ $resume = 1 ] && [ -f "$out/stability.csv" ]; then
   earlier_seconds=$(sed -n 's/^seconds=//p' "$out/run_info.txt" 2>/dev/null)
@@ -195,6 +205,12 @@ if [ $resume = 1 ] && [ -f "$out/stability.csv" ]; then
     echo "stability.sh: --resume: the rows in $out were trained with other settings ($earlier_sizes), not these ($sizes)" >&2; exit 2
   fi
   case $earlier_sizes in *"runs at a time"*) sizes=$earlier_sizes ;; esac  # its times are no speed figures either
+  earlier_code=$(sed -n 's/^code=//p' "$out/run_info.txt" 2>/dev/null)
+  if [ "$code" = unknown ] || [ "$earlier_code" != "$code" ]; then
+    echo "stability.sh: --resume: the rows in $out come from training code ${earlier_code:-not recorded}, and this checkout's is $code" \
+         "(git's hash of ${code_paths[*]}; unknown outside a git checkout or with local changes there): train them again without --resume" >&2
+    exit 2
+  fi
   earlier_device=$(sed -n 's/^device=//p' "$out/run_info.txt" 2>/dev/null)
   [ -z "$earlier_device" ] || [ "$earlier_device" = "$device" ] || device="$earlier_device; then $device"
   cp "$out/stability.csv" "$work/earlier.csv"
@@ -260,8 +276,8 @@ write_rows() {
   done
   cp "$rows" "$out/stability.csv"
   end_all=$(date +%s)
-  printf 'seconds=%d\nfinished=%s\nrows=%d of %d\ndevice=%s\nsizes=%s\n' "$((${earlier_seconds:-0} + end_all - start_all))" \
-    "$(date -u '+%Y-%m-%d %H:%M UTC')" "$done_count" "$total" "$device" "$sizes" >"$out/run_info.txt"
+  printf 'seconds=%d\nfinished=%s\nrows=%d of %d\ndevice=%s\nsizes=%s\ncode=%s\n' "$((${earlier_seconds:-0} + end_all - start_all))" \
+    "$(date -u '+%Y-%m-%d %H:%M UTC')" "$done_count" "$total" "$device" "$sizes" "$code" >"$out/run_info.txt"
 }
 while [ "$(jobs -rp | wc -l)" -gt 0 ] && [ $stopped = 0 ]; do wait -n; done
 if [ $stopped = 1 ]; then
