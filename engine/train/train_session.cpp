@@ -172,6 +172,18 @@ void drawGaussians(TrainSession& s) {
 
 }  // namespace
 
+namespace {
+
+// --surface-until N ends the water's learning with its last surface step at or before N, so
+// no step after it adds to a sum that no surface step would apply (0: never ends).
+int lastWaterStep(const TrainSession& s) {
+  const int freeze = s.config.schedule.surfaceFreeze, until = s.config.schedule.surfaceUntil;
+  if (until == 0) return std::numeric_limits<int>::max();
+  return freeze + (until - freeze) / surfaceBatchSteps(s) * surfaceBatchSteps(s);
+}
+
+}  // namespace
+
 std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig& config, Dataset dataset) {
   validateTrainConfig(config);
   auto s = std::make_unique<TrainSession>();
@@ -214,7 +226,7 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   validateDensifyConfig(dc);
   s->mcmcConfig.maxGaussians = config.maxGaussians;
   validateMcmcConfig(s->mcmcConfig);
-  if (s->surface && k.surfaceUntil > 0 && surfaceBatchSteps(*s) > k.surfaceUntil - k.surfaceFreeze)
+  if (s->surface && lastWaterStep(*s) <= k.surfaceFreeze)
     fail("--surface-until " + std::to_string(k.surfaceUntil) + " leaves the surface no step: it learns after --surface-freeze (" +
          std::to_string(k.surfaceFreeze) + ") once every " + std::to_string(surfaceBatchSteps(*s)) + " steps (--surface-batch)");
 
@@ -445,13 +457,6 @@ namespace {
 
 // Steps at which the water learns, and the steps that end a surface batch (one Adam step on
 // the gradient summed over the batch).
-// --surface-until N ends the water's learning with its last surface step at or before N, so
-// no step after it adds to a sum that no surface step would apply.
-int lastWaterStep(const TrainSession& s) {
-  const int freeze = s.config.schedule.surfaceFreeze, until = s.config.schedule.surfaceUntil;
-  if (until == 0) return std::numeric_limits<int>::max();
-  return freeze + (until - freeze) / surfaceBatchSteps(s) * surfaceBatchSteps(s);
-}
 bool waterLearnsAt(const TrainSession& s, int t) {
   return s.surface && s.config.model != WaterModel::KnownWater && t > s.config.schedule.surfaceFreeze && t <= lastWaterStep(s);
 }
