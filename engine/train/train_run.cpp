@@ -16,6 +16,7 @@
 #include "engine/train/checkpoint.h"
 #include "engine/train/init_gaussians.h"
 #include "engine/train/model_sizing.h"
+#include "engine/train/plane_sweep.h"
 #include "engine/model/render_model.h"
 #include "engine/train/train_views.h"
 #include "engine/vk/vk_commands.h"
@@ -164,7 +165,14 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   m["evaluations"] = evaluations;
   if (watchesSurface(s)) {
     const SweepAgreement a = agreementWithFlatWater(s);
-    if (a.cells > 0 && a.reference > 0) {
+    if (a.cells == 0 || !(a.reference > 0)) {
+      // Fewer than the sweep's minimum of views see any cell (two training views, or views that
+      // barely overlap), or the views agree exactly through the flat water: the check has
+      // nothing to compare, and a run that stayed quiet would read as a surface that passed.
+      m["surface_unchecked"] = a.cells == 0 ? "no water cell is seen by " + std::to_string(PlaneSweepConfig{}.minViews) +
+                                                  " of the training views, the plane sweep's minimum"
+                                            : std::string("the training views agree exactly through the flat water");
+    } else {
       const double ratio = a.cost / a.reference;
       m["surface_agreement"] = {{"sweep_cost", a.cost}, {"flat_sweep_cost", a.reference}, {"ratio", ratio}, {"cells", a.cells},
                                 {"warned", ratio > kAgreementWarning}};
@@ -263,6 +271,9 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
   nlohmann::json m = writeRunOutputs(s, runDir);
   if (m.contains("surface_roughening") && m["surface_roughening"]["judged"].get<bool>())
     say(std::string(m["surface_roughening"]["roughening"].get<bool>() ? "warning: " : "") + m["surface_roughening"]["text"].get<std::string>());
+  if (m.contains("surface_unchecked"))
+    say("warning: the run cannot check its learned water (" + m["surface_unchecked"].get<std::string>() +
+        "): a surface further from the truth than the flat start would go unsaid (docs/training.md, \"Is the learned water right?\")");
   if (m.contains("surface_agreement")) {
     say(surfaceAgreementLine(m["surface_agreement"]));
     if (m["surface_agreement"].value("mirror_better", false))
