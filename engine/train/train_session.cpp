@@ -170,10 +170,6 @@ void drawGaussians(TrainSession& s) {
   s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
 }
 
-}  // namespace
-
-namespace {
-
 // --surface-until N ends the water's learning with its last surface step at or before N, so
 // no step after it adds to a sum that no surface step would apply (0: never ends).
 int lastWaterStep(const TrainSession& s) {
