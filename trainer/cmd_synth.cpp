@@ -1,5 +1,6 @@
 // refrax synth: generates a synthetic dataset with ground-truth water (NeRFrac-like and
-// RefracGS-like presets) on the CPU, with a renderer that shares no code with the trainer.
+// RefracGS-like presets, or `random`: a scene drawn from its seed, engine/synth/synth_random.h)
+// on the CPU, with a renderer that shares no code with the trainer.
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -11,6 +12,7 @@
 #include "engine/base/error.h"
 #include "engine/synth/synth_dataset.h"
 #include "engine/synth/synth_presets.h"
+#include "engine/synth/synth_random.h"
 #include "engine/synth/synth_rim.h"
 #include "trainer/cli.h"
 
@@ -20,12 +22,12 @@ namespace refrax {
 namespace {
 
 std::atomic<bool> g_interrupted{false};
-extern "C" void onInterrupt(int) { g_interrupted.store(true); }
+extern "C" void onSynthInterrupt(int) { g_interrupted.store(true); }
 
 std::string presetList() {
   std::string s;
   for (const auto& n : synth::synthPresetNames()) s += (s.empty() ? "" : ", ") + n;
-  return s;
+  return s + ", random";
 }
 
 bool hasTextures(const fs::path& dir) { return fs::exists(dir / "astronaut.png"); }
@@ -55,7 +57,8 @@ int runSynth(const cli::Args& args) {
   }
   if (names.size() != 1) fail("synth: expected one preset name (" + presetList() + ")");
   const std::string name = names[0];
-  if (!synth::isSynthPreset(name)) fail("synth: unknown preset '" + name + "' (known: " + presetList() + ")");
+  const bool drawn = name == "random";  // a scene drawn from --seed, not a preset
+  if (!drawn && !synth::isSynthPreset(name)) fail("synth: unknown preset '" + name + "' (known: " + presetList() + ")");
   if (out.empty()) fail("synth: -o DIR is required");
   std::string size = args.get("size", "full");
   if (size != "tiny" && size != "full") fail("synth: --size must be tiny or full, got '" + size + "'");
@@ -65,8 +68,12 @@ int runSynth(const cli::Args& args) {
 
   auto start = std::chrono::steady_clock::now();
   const std::string textureDir = findTextureDir(args);
-  synth::SynthPreset preset = synth::makeSynthPreset(name, size == "tiny" ? synth::SynthSize::Tiny : synth::SynthSize::Full,
-                                                     uint64_t(seed), textureDir);
+  const synth::SynthSize synthSize = size == "tiny" ? synth::SynthSize::Tiny : synth::SynthSize::Full;
+  // A random scene draws its own rim (or none): --rim would change what the seed stands for.
+  if (drawn && args.has("rim")) fail("synth: random scenes draw their own rim (scene.json's \"rim\"); --rim is for the presets");
+  synth::SynthPreset preset = drawn ? synth::buildRandomScene(synth::drawRandomScene(uint64_t(seed)), synthSize, textureDir)
+                                    : synth::makeSynthPreset(name, synthSize, uint64_t(seed), textureDir);
+  if (drawn) std::printf("synth random: %s\n", preset.description.c_str());
   synth::SynthVariation variation;
   if (args.has("width")) variation.width = int(args.getIntIn("width", 0, 8, 8192));  // 0 is the size's own, never asked for
   variation.amplitudeScale = args.getDouble("wave-amplitude", 1.0);
@@ -83,8 +90,8 @@ int runSynth(const cli::Args& args) {
   o.dry = args.has("dry");
   // Stop between views on Ctrl-C so the temporary folder is removed rather than left behind.
   o.cancel = &g_interrupted;
-  std::signal(SIGINT, onInterrupt);
-  std::signal(SIGTERM, onInterrupt);
+  std::signal(SIGINT, onSynthInterrupt);
+  std::signal(SIGTERM, onSynthInterrupt);
   std::printf("synth %s (%s, seed %ld): %zu train, %zu test, %zu air views, %d x %d px, %zu triangles -> %s\n", name.c_str(), size.c_str(),
               seed, preset.train.size(), preset.test.size(), preset.air.size(), preset.train.front().width, preset.train.front().height,
               preset.scene.bvh.triangles.size(), out.c_str());
@@ -96,10 +103,14 @@ int runSynth(const cli::Args& args) {
 }
 
 REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-truth water (CPU)",
-                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--rim HALF] [--dry] [--textures DIR]\n       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown",
+                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--rim HALF] [--dry] [--textures DIR]\n"
+                "       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown\n"
+                "       random: a scene drawn from --seed N (1-4 sines and ripples, slope bound 0.08-0.75, IOR 1.1-1.5, a 3x3-5x5\n"
+                "               top-down grid or a ring of 12-30 views at 15-50 deg, 96-400 px, floor relief, 1-6 objects, a dry rim\n"
+                "               or none); the same seed gives the same scene, recorded in scene.json; --size tiny caps it at 64 px",
                 {{"output", "DIR", "(or -o DIR) output folder; must not exist or be empty; appears only when complete", ""},
                  {"size", "tiny|full", "tiny: small images and simple geometry for CI", "full"},
-                 {"seed", "N", "seed for the wave phases / spectrum and the antialiasing jitter", "1"},
+                 {"seed", "N", "seed for the wave phases / spectrum and the antialiasing jitter; for random, the whole scene", "1"},
                  {"width", "N", "image width in pixels (height and field of view follow); default: the size's", ""},
                  {"wave-amplitude", "X", "every wave's amplitude times X (wave-slope sweeps)", "1"},
                  {"wavelength", "X", "every wavelength times X", "1"},

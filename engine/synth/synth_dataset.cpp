@@ -300,6 +300,11 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
                       "as the dataset without --dry; test_air/ and air/ as there; file paths in transforms_*.json omit the .png extension";
     water.erase("masks");
   }
+  if (!p.parametersJson.empty()) {
+    nlohmann::json drawn = nlohmann::json::parse(p.parametersJson);
+    water["scene_parameters"] = drawn;
+    writeJson((fs::path(dir) / "scene.json").string(), drawn);
+  }
   water["samples_per_pixel"] = p.samplesPerAxis * p.samplesPerAxis;
   nlohmann::json miss;
   for (const auto& [split, v] : missFraction) miss[split] = v;

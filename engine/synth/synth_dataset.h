@@ -1,7 +1,8 @@
 #pragma once
 // Writes a synthetic preset as a dataset folder: Blender transforms (train / test / air),
 // PNG renders with and without water, masks, water.json, the ground-truth surface as glTF
-// and as a height map, and for NeRFrac-like presets the LLFF layout (poses_bounds.npy).
+// and as a height map, for NeRFrac-like presets the LLFF layout (poses_bounds.npy), and for a
+// drawn scene (synth_random.h) its parameters as scene.json.
 #include <atomic>
 #include <cstdint>
 #include <string>

@@ -33,6 +33,9 @@ struct SynthPreset {
   bool tiltableRig = false;
   glm::dvec3 rigPivot{0.0};
   double rigSpacing = 0;  // that rig's camera spacing (m); --rig-spacing replaces it
+  // A drawn scene's parameters as JSON text (synth_random.h; empty for the presets): written
+  // as scene.json and into water.json's "scene_parameters", so a table can say what it was.
+  std::string parametersJson;
 };
 
 std::vector<std::string> synthPresetNames();
