@@ -3,6 +3,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -150,17 +151,41 @@ std::vector<ColmapPoint> readPointsBinary(const std::string& path) {
 
 // ---- text: '#' comments, one record per line (images: two lines each)
 
-std::vector<std::string> dataLines(const std::string& path, bool keepEmpty) {
+// A data line and its line number in the file (1-based), so every error points at the line
+// an editor shows.
+struct TextLine {
+  size_t number;
+  std::string text;
+};
+
+std::vector<TextLine> dataLines(const std::string& path, bool keepEmpty) {
   std::stringstream in(readFile(path));
-  std::vector<std::string> lines;
+  std::vector<TextLine> lines;
   std::string line;
-  while (std::getline(in, line)) {
+  for (size_t number = 1; std::getline(in, line); number++) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (!line.empty() && line[0] == '#') continue;
     if (line.empty() && !keepEmpty) continue;
-    lines.push_back(line);
+    lines.push_back({number, line});
   }
   return lines;
+}
+
+// Whether `line` can be an image's POINTS2D line: empty, or (X, Y, POINT3D_ID) triples of
+// numbers. An image line (ID, QW..TZ, CAMERA_ID, NAME: ten fields, the name not a number)
+// cannot, so a file that leaves the POINTS2D lines out is caught instead of read as every
+// other image.
+bool isPointsLine(const std::string& line) {
+  std::istringstream in(line);
+  std::string token;
+  size_t count = 0;
+  while (in >> token) {
+    char* end = nullptr;
+    std::strtod(token.c_str(), &end);
+    if (end == token.c_str() || *end) return false;
+    count++;
+  }
+  return count % 3 == 0;
 }
 
 template <class T>
@@ -172,11 +197,10 @@ T field(std::istringstream& in, const std::string& path, size_t line, const char
 
 std::map<uint32_t, ColmapCamera> readCamerasText(const std::string& path) {
   std::map<uint32_t, ColmapCamera> cameras;
-  size_t n = 0;
-  for (const std::string& line : dataLines(path, false)) {
+  for (const auto& [n, line] : dataLines(path, false)) {
     std::istringstream in(line);
     ColmapCamera c;
-    c.id = field<uint32_t>(in, path, ++n, "a camera id");
+    c.id = field<uint32_t>(in, path, n, "a camera id");
     c.model = field<std::string>(in, path, n, "a camera model");
     c.width = field<uint64_t>(in, path, n, "the image width");
     c.height = field<uint64_t>(in, path, n, "the image height");
@@ -195,13 +219,13 @@ std::map<uint32_t, ColmapCamera> readCamerasText(const std::string& path) {
 }
 
 std::vector<ColmapImage> readImagesText(const std::string& path) {
-  std::vector<std::string> lines = dataLines(path, true);
-  while (!lines.empty() && lines.back().empty()) lines.pop_back();  // a trailing empty line
+  std::vector<TextLine> lines = dataLines(path, true);
+  while (!lines.empty() && lines.back().text.empty()) lines.pop_back();  // a trailing empty line
   std::vector<ColmapImage> images;
   for (size_t k = 0; k < lines.size(); k += 2) {  // the image's line, then its 2D points' (maybe empty)
-    std::istringstream in(lines[k]);
+    std::istringstream in(lines[k].text);
     ColmapImage im;
-    size_t n = k + 1;
+    const size_t n = lines[k].number;
     im.id = field<uint32_t>(in, path, n, "an image id");
     for (int c = 0; c < 4; c++) im.q[c] = field<double>(in, path, n, "the quaternion QW QX QY QZ");
     for (int c = 0; c < 3; c++) im.t[c] = field<double>(in, path, n, "the translation TX TY TZ");
@@ -211,6 +235,9 @@ std::vector<ColmapImage> readImagesText(const std::string& path) {
     size_t first = rest.find_first_not_of(" \t");
     im.name = first == std::string::npos ? "" : rest.substr(first);
     checkImage(im, path);
+    if (k + 1 < lines.size() && !isPointsLine(lines[k + 1].text))
+      fail(path + ": line " + std::to_string(lines[k + 1].number) + ": expected the POINTS2D line of image " + std::to_string(im.id) + " (" +
+           im.name + ": X Y POINT3D_ID triples, or an empty line), found another line; each image takes two lines");
     images.push_back(im);
   }
   return images;
@@ -218,11 +245,10 @@ std::vector<ColmapImage> readImagesText(const std::string& path) {
 
 std::vector<ColmapPoint> readPointsText(const std::string& path) {
   std::vector<ColmapPoint> points;
-  size_t n = 0;
-  for (const std::string& line : dataLines(path, false)) {
+  for (const auto& [n, line] : dataLines(path, false)) {
     std::istringstream in(line);
     ColmapPoint p;
-    field<uint64_t>(in, path, ++n, "a point id");
+    field<uint64_t>(in, path, n, "a point id");
     for (int c = 0; c < 3; c++) p.position[c] = field<double>(in, path, n, "the position X Y Z");
     for (int c = 0; c < 3; c++) p.colour[c] = field<int>(in, path, n, "the colour R G B") / 255.0;
     p.error = field<double>(in, path, n, "the reprojection error");
@@ -234,6 +260,20 @@ std::vector<ColmapPoint> readPointsText(const std::string& path) {
     points.push_back(p);
   }
   return points;
+}
+
+// One pose per photo and one photo per id: two entries for the same file would train two
+// conflicting poses of one image, two with the same id are no model COLMAP writes.
+void checkUniqueImages(const std::vector<ColmapImage>& images, const std::string& path) {
+  std::map<uint32_t, const ColmapImage*> byId;
+  std::map<std::string, const ColmapImage*> byName;
+  for (const ColmapImage& im : images) {
+    if (auto [it, fresh] = byId.emplace(im.id, &im); !fresh)
+      fail(path + ": image id " + std::to_string(im.id) + " appears twice (" + it->second->name + " and " + im.name + ")");
+    if (auto [it, fresh] = byName.emplace(im.name, &im); !fresh)
+      fail(path + ": " + im.name + " is listed twice (images " + std::to_string(it->second->id) + " and " + std::to_string(im.id) +
+           "), with two poses for one photo");
+  }
 }
 
 std::string numberText(double v) {
@@ -263,6 +303,7 @@ ColmapModel readColmapModel(const std::string& folder) {
   if (!fileExists(images)) fail("COLMAP model " + folder + ": no images.bin or images.txt beside " + cameras);
   m.cameras = cameras.size() > 4 && cameras.compare(cameras.size() - 4, 4, ".bin") == 0 ? readCamerasBinary(cameras) : readCamerasText(cameras);
   m.images = images.compare(images.size() - 4, 4, ".bin") == 0 ? readImagesBinary(images) : readImagesText(images);
+  checkUniqueImages(m.images, images);
   if (fileExists(points)) m.points = points.compare(points.size() - 4, 4, ".bin") == 0 ? readPointsBinary(points) : readPointsText(points);
   for (const ColmapImage& im : m.images)
     if (!m.cameras.count(im.cameraId))
