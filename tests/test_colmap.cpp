@@ -355,5 +355,27 @@ TEST_CASE("--init-points: Gaussians at the sparse points under the water (moved 
   CHECK(blender.exitCode != 0);
   CHECK(blender.output.find("--init-points: ") != std::string::npos);
   CHECK(blender.output.find("has no sparse points under the water") != std::string::npos);
+  CHECK(blender.output.find("it has no sparse points at all (only COLMAP models carry them") != std::string::npos);
+  CHECK(!fs::exists(dir / "run"));
+}
+
+TEST_CASE("--init-points on a COLMAP model whose every point is above the water says so, not that only COLMAP models have points" * doctest::test_suite("one-backend")) {
+  test::TrainTempDir dir;
+  const std::string data = test::tinyDataset("nerfrac-primary-sine");
+  Dataset original = loadDataset(data);
+  const fs::path folder = fs::path(dir.path) / "colmap";
+  writeAsColmap(original, someFrame(), *original.water.height, folder, false);
+  const Dataset loaded = loadDataset(folder.string());
+  REQUIRE(!loaded.points.empty());
+  double lowest = loaded.points.front().position.z;
+  for (const SparsePoint& p : loaded.points) lowest = std::min(lowest, p.position.z);
+  // The water given under every sparse point (in the frame `refrax inspect` prints).
+  const std::string under = std::to_string(lowest - 0.05);
+  test::CliResult r = test::runCli("train " + folder.string() + " -o " + (dir / "run") + " --steps 2 --init-points --water-height " + under);
+  INFO(r.output);
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find("--init-points: " + folder.string() + " has no sparse points under the water: all 200 of its sparse points lie at or above "
+                      "the water height") != std::string::npos);
+  CHECK(r.output.find("only COLMAP models carry them") == std::string::npos);
   CHECK(!fs::exists(dir / "run"));
 }

@@ -3,7 +3,13 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
 #include <filesystem>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include "engine/base/error.h"
 #include "engine/vk/vk_context.h"
@@ -70,6 +76,47 @@ std::vector<Option> deviceOptions() {
 OutputFolder::~OutputFolder() {
   std::error_code ec;
   if (made && !kept && std::filesystem::is_empty(path, ec)) std::filesystem::remove(path, ec);
+  if (lockFd >= 0) ::close(lockFd);
+}
+
+void checkNewOrEmptyFolder(const std::string& path, const std::string& flag, const std::string& advice) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return;
+  if (!std::filesystem::is_directory(path, ec)) fail(flag + " " + path + " is a file, not a folder");
+  if (!std::filesystem::is_empty(path, ec)) fail(path + " already exists and is not empty (" + advice + ")");
+}
+
+namespace {
+// An exclusive, non-blocking flock on the folder; false when another process holds it.
+bool lockFolder(OutputFolder& folder) {
+  folder.lockFd = ::open(folder.path.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (folder.lockFd < 0) fail(folder.path + ": cannot open the folder (" + std::strerror(errno) + ")");
+  return ::flock(folder.lockFd, LOCK_EX | LOCK_NB) == 0;
+}
+}  // namespace
+
+std::unique_ptr<OutputFolder> claimOutputFolder(const std::string& path, const std::string& flag, const std::string& advice) {
+  checkNewOrEmptyFolder(path, flag, advice);
+  auto folder = createOutputFolder(path, flag);
+  if (!lockFolder(*folder)) {
+    folder->keep();  // the other process's folder now, even if this one made it
+    fail(flag + " " + path + " is being written by another refrax process: give each run its own folder");
+  }
+  // Another process may have claimed, filled and released it since the first check.
+  try {
+    checkNewOrEmptyFolder(path, flag, advice);
+  } catch (const Error&) {
+    folder->keep();
+    throw;
+  }
+  return folder;
+}
+
+std::unique_ptr<OutputFolder> lockRunFolder(const std::string& path) {
+  auto folder = std::make_unique<OutputFolder>();
+  folder->path = path;
+  if (!lockFolder(*folder)) fail(path + " is being written by another refrax process (a training or a resume of it): wait for it to end");
+  return folder;
 }
 
 std::unique_ptr<OutputFolder> createOutputFolder(const std::string& path, const std::string& flag) {
@@ -84,6 +131,17 @@ std::unique_ptr<OutputFolder> createOutputFolder(const std::string& path, const 
   if (ec) fail(flag + " " + path + ": cannot create the folder (" + ec.message() + ")");
   folder->made = true;
   return folder;
+}
+
+namespace {
+std::atomic<bool> g_interrupted{false};
+extern "C" void onCliInterrupt(int) { g_interrupted.store(true); }
+}  // namespace
+
+const std::atomic<bool>& catchInterrupts() {
+  std::signal(SIGINT, onCliInterrupt);
+  std::signal(SIGTERM, onCliInterrupt);
+  return g_interrupted;
 }
 
 std::unique_ptr<Context> openContext(const Args& args, bool verbose) {

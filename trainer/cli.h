@@ -1,6 +1,7 @@
 #pragma once
 // The `refrax` command line: each subcommand registers itself from its own file with
 // REFRAX_COMMAND, and declares its options so `--help` and error messages come for free.
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
@@ -57,6 +58,7 @@ std::vector<Option> deviceOptions();
 struct OutputFolder {
   std::string path;
   bool made = false, kept = false;
+  int lockFd = -1;  // claimOutputFolder's lock on the folder, held for the guard's life
   OutputFolder() = default;
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;
@@ -64,6 +66,21 @@ struct OutputFolder {
   void keep() { kept = true; }
 };
 std::unique_ptr<OutputFolder> createOutputFolder(const std::string& path, const std::string& flag);
+// Refuses `path` unless it is absent or an empty folder: "FLAG PATH is a file, not a folder",
+// or "PATH already exists and is not empty (ADVICE)".
+void checkNewOrEmptyFolder(const std::string& path, const std::string& flag, const std::string& advice);
+// createOutputFolder for a process that writes into the folder while it runs (refrax train):
+// the folder is also locked for the guard's life (flock on the folder itself, so nothing is
+// written into it and a killed process leaves no stale lock) and checked empty under the
+// lock. Of two processes given one folder at the same moment exactly one claims it; the other
+// is refused naming it and leaves the folder to the first.
+std::unique_ptr<OutputFolder> claimOutputFolder(const std::string& path, const std::string& flag, const std::string& advice);
+// The same lock on an existing run folder (refrax train --resume); the returned guard holds it.
+std::unique_ptr<OutputFolder> lockRunFolder(const std::string& path);
+// From this call on, Ctrl-C and SIGTERM set the returned flag instead of ending the process,
+// so a command writing a staged folder (engine/io/staged_folder.h) stops between files and
+// removes it rather than leaving it behind.
+const std::atomic<bool>& catchInterrupts();
 // The Vulkan context chosen by --device / --validation (and their environment variables).
 std::unique_ptr<Context> openContext(const Args& args, bool verbose = true);
 

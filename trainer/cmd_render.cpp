@@ -2,6 +2,7 @@
 // camera) with the learned water kept, removed, or swapped for a built-in surface or for any
 // triangle mesh from a glTF file.
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "engine/base/error.h"
 #include "engine/io/gltf_surface.h"
 #include "engine/io/image_io.h"
+#include "engine/io/staged_folder.h"
 #include "engine/surface/mesh_surface.h"
 #include "engine/model/render_model.h"
 #include "engine/model/open_model.h"
@@ -59,10 +61,11 @@ int runRender(const cli::Args& args) {
   if (args.positional.size() != 1) fail("refrax render needs one run folder");
   if (!args.has("output")) fail("refrax render needs -o DIR");
   std::string run = args.positional[0], out = args.get("output");
-  std::error_code ec;
+  // Ctrl-C or a kill from here on stops the render between views (the check in the loop), so
+  // the staged folder is removed rather than left behind.
+  const std::atomic<bool>& interrupted = cli::catchInterrupts();
   // As train -o: a render never mixes its images with a folder's older files.
-  if (fs::exists(out, ec) && !(fs::is_directory(out, ec) && fs::is_empty(out, ec)))
-    fail(out + " already exists and is not empty (render into a new folder, or remove it first)");
+  cli::checkNewOrEmptyFolder(out, "-o", "render into a new folder, or remove it first");
   std::string water = args.get("water", "keep");
   const long benchmark = args.getIntIn("benchmark", 0, 0, 100000);
   TrainConfig config = readRunConfig(run);
@@ -78,7 +81,7 @@ int runRender(const cli::Args& args) {
   std::vector<std::pair<std::string, Camera>> cameras;
   bool single = args.has("camera");
   std::string split = args.get("split", "test");
-  auto folder = cli::createOutputFolder(out, "-o");
+  StagedFolder folder(out, "-o");  // the images appear in `out` all at once, or not at all
   auto ctx = cli::openContext(args);
   const Dataset dataset = loadRunDataset(config);
   auto model = openModel(*ctx, run, dataset);
@@ -100,19 +103,22 @@ int runRender(const cli::Args& args) {
   if (waves) swap.emplace(createAnalyticHeightField(*ctx, *waves));
   std::optional<MeshSurface> swapMesh;
   if (mesh) swapMesh.emplace(createMeshSurface(*ctx, *mesh));
-  folder->keep();
   const SwapSurface swapSurface{swap ? &*swap : nullptr, swapMesh ? &*swapMesh : nullptr};
   for (const auto& [name, cam] : cameras) {
+    if (interrupted.load()) fail("render: interrupted; nothing was written to " + out);
     RenderedView r = renderView(*model, cam, mode, swapSurface);
-    writePng((fs::path(out) / name).string(), r.image);
-    std::printf("wrote %s\n", (fs::path(out) / name).string().c_str());
+    writePng((fs::path(folder.path) / name).string(), r.image);
   }
+  folder.commit();
+  for (const auto& [name, cam] : cameras) std::printf("wrote %s\n", (fs::path(out) / name).string().c_str());
   if (benchmark > 0) {
     // Every view again, `benchmark` times, after the renders above built the pipelines: the
     // frame time of a headless render (camera rays, water, Gaussians, download) on this device.
     auto t0 = std::chrono::steady_clock::now();
-    for (long k = 0; k < benchmark; k++)
+    for (long k = 0; k < benchmark; k++) {
+      if (interrupted.load()) fail("render: interrupted during --benchmark (the images in " + out + " are complete)");
       for (const auto& [name, cam] : cameras) renderView(*model, cam, mode, swapSurface);
+    }
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / double(benchmark * cameras.size());
     std::printf("benchmark: %s, %dx%d, water %s, %zu views x %ld: %.2f ms per frame (%.1f FPS), %s trace\n", ctx->caps.name.c_str(),
                 cameras.front().second.width, cameras.front().second.height, water.c_str(), cameras.size(), benchmark, ms, 1000.0 / ms,
@@ -122,7 +128,7 @@ int runRender(const cli::Args& args) {
 }
 
 std::vector<cli::Option> renderOptions() {
-  std::vector<cli::Option> o = {{"output", "DIR", "folder for the PNGs (-o)", ""},
+  std::vector<cli::Option> o = {{"output", "DIR", "folder for the PNGs (-o); must not exist or be empty; appears only once every image is written", ""},
                                 {"split", "NAME", "dataset split to render (test, train, air, ...)", "test"},
                                 {"camera", "x,y,z,tx,ty,tz", "one look-at camera instead of a split (world up +z)", ""},
                                 {"width", "PIXELS", "image width with --camera", "256"},

@@ -105,7 +105,7 @@ int runTrain(const cli::Args& args) {
   progress.profile = args.has("profile");
   if (args.has("time-limit")) {
     progress.timeLimitSeconds = args.getDouble("time-limit", 0);
-    if (!(progress.timeLimitSeconds > 0 && progress.timeLimitSeconds < 1e9)) fail("--time-limit must be a number of seconds above 0");
+    if (!(progress.timeLimitSeconds > 0 && progress.timeLimitSeconds < 1e9)) fail("--time-limit must be a number of seconds above 0 and below 1e9 (about 31 years), got " + args.get("time-limit"));
   }
   if (args.has("resume")) {
     if (!args.positional.empty() || args.has("output")) fail("--resume RUN takes no dataset and no -o: the run folder holds both");
@@ -116,6 +116,7 @@ int runTrain(const cli::Args& args) {
              resumeOptionList() + " apply");
     std::string run = args.get("resume");
     TrainConfig stored = readRunConfig(run);
+    auto lock = cli::lockRunFolder(run);  // held until the run ends
     std::string ckpt = latestCheckpoint(run);
     if (ckpt.empty()) fail(run + " has no checkpoint to resume from");
     try {
@@ -145,9 +146,8 @@ int runTrain(const cli::Args& args) {
   if (args.positional.size() != 1) fail("refrax train needs one dataset folder");
   if (!args.has("output")) fail("refrax train needs -o RUN (the output folder)");
   std::string run = args.get("output");
-  std::error_code ec;
-  if (fs::exists(run, ec) && !(fs::is_directory(run, ec) && fs::is_empty(run, ec)))
-    fail(run + " already exists and is not empty (use --resume " + run + " to continue it, or another folder)");
+  const std::string advice = "use --resume " + run + " to continue it, or another folder";
+  cli::checkNewOrEmptyFolder(run, "-o", advice);  // before the dataset loads: a refusal costs nothing
 
   TrainConfig config = configFromArgs(args);
   config.dataset = fs::absolute(args.positional[0]).lexically_normal().string();
@@ -156,7 +156,7 @@ int runTrain(const cli::Args& args) {
   keepTrainViews(dataset, config.trainViews);  // before the scene bounds: they come from the views trained on
   resolveSceneConfig(config, dataset);
   // Everything checked: the run folder appears only now (and goes again if the device fails).
-  auto folder = cli::createOutputFolder(run, "-o");
+  auto folder = cli::claimOutputFolder(run, "-o", advice);  // held until the run ends
   auto ctx = cli::openContext(args);
   auto session = createTrainSession(*ctx, config, std::move(dataset));
   folder->keep();

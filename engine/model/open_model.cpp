@@ -1,5 +1,8 @@
 #include "engine/model/open_model.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "engine/base/error.h"
@@ -22,6 +25,56 @@ Dataset loadRunDataset(const TrainConfig& c) {
   Dataset dataset = loadDataset(c.dataset, c.datasetOptions);
   keepTrainViews(dataset, c.trainViews);
   return dataset;
+}
+
+namespace {
+
+std::string number(double v) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.6g", v);
+  return s;
+}
+
+bool near(double a, double b, double tolerance) { return std::abs(a - b) <= tolerance; }
+
+}  // namespace
+
+std::vector<std::string> sceneMismatches(const TrainConfig& c, const Dataset& run, const Dataset& other) {
+  std::vector<std::string> out;
+  // Lengths to a millionth of the scene (the run's written values round-trip far closer).
+  const double length = 1e-6 * std::max(1.0, c.extent);
+  if (!near(other.water.ior, c.ior, 1e-9)) out.push_back("its IOR is " + number(other.water.ior) + ", the run's " + number(c.ior));
+  if (other.water.height && !near(*other.water.height, c.waterHeight, length))
+    out.push_back("its water height is " + number(*other.water.height) + ", the run's " + number(c.waterHeight));
+  if (const auto& d = other.water.domain;
+      d && !(near(d->xMin, c.domain.xMin, length) && near(d->xMax, c.domain.xMax, length) && near(d->yMin, c.domain.yMin, length) &&
+             near(d->yMax, c.domain.yMax, length)))
+    out.push_back("its water domain is x " + number(d->xMin) + ".." + number(d->xMax) + ", y " + number(d->yMin) + ".." + number(d->yMax) +
+                  ", the run's x " + number(c.domain.xMin) + ".." + number(c.domain.xMax) + ", y " + number(c.domain.yMin) + ".." +
+                  number(c.domain.yMax));
+  if (!other.splits.count("train") || !run.splits.count("train")) return out;
+  const std::vector<View>& mine = run.split("train");
+  const std::vector<View>& theirs = other.split("train");
+  if (mine.size() != theirs.size()) {
+    out.push_back("it has " + std::to_string(theirs.size()) + " training views, the run " + std::to_string(mine.size()));
+    return out;
+  }
+  for (size_t i = 0; i < mine.size(); i++) {
+    const Camera &a = mine[i].camera, &b = theirs[i].camera;
+    // Positions to a thousandth of the scene, axes to a milliradian, the horizontal field of
+    // view to a thousandth: the same rig rendered at another size passes, another rig does not.
+    const bool same = glm::length(a.position() - b.position()) <= 1e-3 * std::max(1.0, c.extent) &&
+                      glm::dot(glm::normalize(a.back()), glm::normalize(b.back())) >= std::cos(1e-3) &&
+                      glm::dot(glm::normalize(a.up()), glm::normalize(b.up())) >= std::cos(1e-3) &&
+                      near(a.fx / a.width, b.fx / b.width, 1e-3 * a.fx / a.width);
+    if (!same) {
+      const glm::dvec3 p = b.position(), q = a.position();
+      out.push_back("its training view " + std::to_string(i) + " (" + theirs[i].name + ") is a camera at (" + number(p.x) + ", " + number(p.y) +
+                    ", " + number(p.z) + "), the run's at (" + number(q.x) + ", " + number(q.y) + ", " + number(q.z) + ") or looking elsewhere");
+      break;  // one camera says it; the rest would repeat it
+    }
+  }
+  return out;
 }
 
 CheckpointShape checkpointShapeFor(const Model& m, const Dataset& dataset) {

@@ -6,6 +6,7 @@
 // height; the optimisers' state, the RNG and the view order are left in the file).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "engine/dataset/dataset.h"
 #include "engine/model/model.h"
@@ -17,6 +18,13 @@ namespace refrax {
 TrainConfig readRunConfig(const std::string& runDir);
 // The run's dataset as it trained on it (its --train-views applied).
 Dataset loadRunDataset(const TrainConfig& config);
+
+// How `other` (a dataset to evaluate the run against) differs from the scene the run learned:
+// its IOR, water height or domain against the run's config.json, its training cameras
+// (count, positions, view directions, fields of view) against the run's dataset's. Empty when
+// it is the same scene (its own dry copy, the same views at another resolution, other test
+// views). Each entry says what differs, with both values.
+std::vector<std::string> sceneMismatches(const TrainConfig& config, const Dataset& run, const Dataset& other);
 
 // The run's model at its newest checkpoint (refrax::Error when it has none); `dataset` is the
 // run's (loadRunDataset).

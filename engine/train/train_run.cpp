@@ -41,10 +41,16 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
     c.boxMin[a] = b.min[a];
     c.boxMax[a] = b.max[a];
   }
+  if (c.initPoints && d.points.empty())
+    fail("--init-points: " + d.root + " has no sparse points under the water: it has no sparse points at all (only COLMAP models carry "
+         "them, in points3D)");
+  char heightText[32];
+  std::snprintf(heightText, sizeof heightText, "%.4g", c.waterHeight);
   if (c.initPoints &&
       std::none_of(d.points.begin(), d.points.end(), [&](const SparsePoint& p) { return underWater(p, c.waterHeight); }))
-    fail("--init-points: " + d.root + " has no sparse points under the water (" + std::to_string(d.points.size()) +
-         " points; only COLMAP models carry them)");
+    fail("--init-points: " + d.root + " has no sparse points under the water: all " + std::to_string(d.points.size()) +
+         " of its sparse points lie at or above the water height " + std::string(heightText) +
+         " (check --water-height or water.json's \"height\" against `refrax inspect`)");
   c.extent = sceneExtent(cams);
   applyModelSizing(c, cams);  // after the domain: the sizing reads what the views see of it
   for (const Camera& cam : cams)
