@@ -66,8 +66,8 @@ TEST_CASE("surface distance: exact on a tilted plane, vertical distance only bou
     points.push_back(p);
     sumSq += d * d;
   }
-  CHECK(surfaceRmse(g, points) == doctest::Approx(std::sqrt(sumSq / 200)).epsilon(1e-9));
-  CHECK(surfaceRmse(g, {}) == 0.0);
+  CHECK(surfaceRmse(g, points).value() == doctest::Approx(std::sqrt(sumSq / 200)).epsilon(1e-9));
+  CHECK(!surfaceRmse(g, {}).has_value());  // no points: no error measured, not a perfect 0
   CHECK_THROWS_AS(surfaceRmse(g, {glm::dvec3(0, std::nan(""), 0)}), Error);
   HeightGrid bad = g;
   bad.heights.pop_back();

@@ -91,7 +91,10 @@ std::string resumeOptionList() {
 
 void printSummary(const nlohmann::json& m) {
   std::printf("test psnr %.3f  ssim %.4f", m["psnr"].get<double>(), m["ssim"].get<double>());
-  if (m.contains("surface_rmse")) std::printf("  surface rmse %.5f (initial flat %.5f)", m["surface_rmse"].get<double>(), m["initial_flat_surface_rmse"].get<double>());
+  if (m.contains("surface_rmse")) {
+    std::printf("  surface rmse %.5f", m["surface_rmse"].get<double>());
+    if (m.contains("initial_flat_surface_rmse")) std::printf(" (initial flat %.5f)", m["initial_flat_surface_rmse"].get<double>());
+  }
   if (m.contains("surface_correlation")) std::printf("  correlation with the true waves %.2f", m["surface_correlation"].get<double>());
   if (m.contains("surface_rmse_missing")) std::printf("  surface rmse n/a: %s", m["surface_rmse_missing"].get<std::string>().c_str());
   if (m.contains("water_removal_psnr")) std::printf("  water-removal psnr %.3f", m["water_removal_psnr"].get<double>());

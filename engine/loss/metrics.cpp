@@ -90,7 +90,8 @@ double ssim(const Image& a, const Image& b, const Image& mask) {
   checkSameShape(a, b, "SSIM");
   checkMask(a, mask, "SSIM");
   if (mask.pixels.empty()) return ref::ssim(toDouble(a.pixels), toDouble(b.pixels), a.width, a.height, a.channels);
-  const std::vector<double> map = ref::imageLoss(toDouble(a.pixels), toDouble(b.pixels), a.width, a.height, a.channels, false).ssimMap;
+  // Windows over the counted pixels only: a masked-out pixel (the rim, a person) changes no score.
+  const std::vector<double> map = ref::maskedSsimMap(toDouble(a.pixels), toDouble(b.pixels), toDouble(mask.pixels), a.width, a.height, a.channels);
   double sum = 0, counted = 0;
   for (size_t i = 0; i < map.size(); i++) {
     const double w = maskAt(mask, i / size_t(a.channels));
@@ -142,9 +143,9 @@ double closestDistance(const HeightGrid& g, const glm::dvec3& p) {
   return std::sqrt(best);
 }
 
-double surfaceRmse(const HeightGrid& g, const std::vector<glm::dvec3>& points) {
+std::optional<double> surfaceRmse(const HeightGrid& g, const std::vector<glm::dvec3>& points) {
   validateHeightGrid(g);
-  if (points.empty()) return 0.0;
+  if (points.empty()) return std::nullopt;
   double sum = 0;
   for (const auto& p : points) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) fail("surface RMSE: a surface point is not finite");

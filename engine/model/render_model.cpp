@@ -110,6 +110,12 @@ std::string indexed(const std::string& dir, size_t i, const char* suffix) {
 }
 
 
+
+// The flat start's error where the test rays met its plane in the domain, else why it is absent.
+void putFlatStartRmse(nlohmann::json& metrics, const std::optional<double>& rmse) {
+  if (rmse) metrics["initial_flat_surface_rmse"] = *rmse;
+  else metrics["initial_flat_surface_rmse_missing"] = "no test ray met the flat start's plane inside the water's domain";
+}
 }  // namespace
 
 nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& rendersDir) {
@@ -141,12 +147,12 @@ nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& r
   metrics["ssim"] = ssimSum / double(test.size());
   metrics["missed_rays"] = missed;
   if (truth && !points.empty()) {
-    metrics["surface_rmse"] = surfaceRmse(*truth, points);
+    metrics["surface_rmse"] = *surfaceRmse(*truth, points);  // points: some
     // The RMSE alone reads the same for noisy and for upside-down waves; the correlation tells.
     const double correlation = surfaceCorrelation(*truth, points);
     if (std::isfinite(correlation)) metrics["surface_correlation"] = correlation;
     metrics["surface_points"] = points.size();
-    metrics["initial_flat_surface_rmse"] = surfaceRmse(*truth, planePoints);
+    putFlatStartRmse(metrics, surfaceRmse(*truth, planePoints));
   } else if (truth && m.surface) {
     // Measured where the test rays meet the water: none did, so there is no error to give.
     metrics["surface_rmse_missing"] = "no test ray met the water surface inside its domain (" + std::to_string(missed) + " missed it)";
@@ -164,7 +170,7 @@ nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& r
             plane.push_back(q);
         }
     }
-    metrics["initial_flat_surface_rmse"] = surfaceRmse(*truth, plane);
+    putFlatStartRmse(metrics, surfaceRmse(*truth, plane));
   }
   if (data.splits.count("air")) {
     const auto& air = data.split("air");

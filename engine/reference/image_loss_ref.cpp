@@ -87,6 +87,37 @@ double ssim(const std::vector<double>& x, const std::vector<double>& y, int widt
   return imageLoss(x, y, width, height, channels, false).ssim;
 }
 
+std::vector<double> maskedSsimMap(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& mask, int width,
+                                  int height, int channels) {
+  checkSizes(x, y, width, height, channels);
+  if (mask.size() != size_t(width) * height) fail("masked SSIM: the mask has " + std::to_string(mask.size()) + " values for " +
+                                                  std::to_string(width) + "x" + std::to_string(height) + " pixels");
+  const size_t n = x.size();
+  std::vector<double> m(n), ones(n, 1.0), mx(n), my(n), mxx(n), myy(n), mxy(n);
+  for (size_t i = 0; i < n; i++) {
+    m[i] = mask[i / size_t(channels)];
+    mx[i] = m[i] * x[i];
+    my[i] = m[i] * y[i];
+    mxx[i] = mx[i] * x[i];
+    myy[i] = my[i] * y[i];
+    mxy[i] = mx[i] * y[i];
+  }
+  // The window's weight: its counted pixels' plus the padding's (zeros that count, as unmasked).
+  const std::vector<double> inside = windowSum(ones, width, height, channels), counted = windowSum(m, width, height, channels);
+  const auto sx = windowSum(mx, width, height, channels), sy = windowSum(my, width, height, channels);
+  const auto sxx = windowSum(mxx, width, height, channels), syy = windowSum(myy, width, height, channels);
+  const auto sxy = windowSum(mxy, width, height, channels);
+  std::vector<double> map(n, 0.0);
+  for (size_t i = 0; i < n; i++) {
+    if (!(m[i] > 0)) continue;
+    const double w = counted[i] + (1.0 - inside[i]);
+    double value, d1, d2, d3;
+    f64::ssimTerms(sx[i] / w, sy[i] / w, sxx[i] / w, syy[i] / w, sxy[i] / w, value, d1, d2, d3);
+    map[i] = value;
+  }
+  return map;
+}
+
 double densityRegularizer(const std::vector<double>& logits, double weight, std::vector<double>* grad) {
   if (logits.empty()) return 0.0;
   double sum = 0;

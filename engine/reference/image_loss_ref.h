@@ -21,6 +21,14 @@ ImageLossResult imageLoss(const std::vector<double>& x, const std::vector<double
 // Mean SSIM (the 3DGS definition above).
 double ssim(const std::vector<double>& x, const std::vector<double>& y, int width, int height, int channels);
 
+// The SSIM map where only the pixels with mask > 0 count (mask: width * height, one weight a
+// pixel): each window's means, variances and covariance are taken over its counted pixels,
+// the window weights times the mask, normalised; pixels past the image edge keep the zero
+// padding above. An all-ones mask gives imageLoss's map; a masked-out pixel's value reaches
+// no window (the map at masked-out centres is left 0).
+std::vector<double> maskedSsimMap(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& mask, int width,
+                                  int height, int channels);
+
 // weight * mean(sigmoid(logit)^2); gradient wrt each logit when `grad` is given.
 double densityRegularizer(const std::vector<double>& logits, double weight, std::vector<double>* grad);
 
