@@ -37,6 +37,12 @@ $SUDO apt-get install -y -qq --no-install-recommends \
 # COLMAP (CPU build): structure from motion for scripts/colmap-check.sh, the CTest test that
 # trains on poses COLMAP recovers from a synthetic dataset's images.
 $SUDO apt-get install -y -qq --no-install-recommends colmap >/dev/null
+# python3 and npm: scripts/interop-check.sh (the field's own tools are npm packages, its
+# comparison is a Python script). Debian's nodejs and npm only where the machine has no npm:
+# a newer node from elsewhere (with its own npm) is kept, and an older one is topped up by
+# interop-check.sh with node from the npm registry.
+$SUDO apt-get install -y -qq --no-install-recommends python3 >/dev/null
+command -v npm >/dev/null 2>&1 || $SUDO apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
 $SUDO apt-get install -y -qq --no-install-recommends -t bookworm-backports \
   mesa-vulkan-drivers >/dev/null
 echo "install-deps: done ($(dpkg-query -W -f='${Version}' mesa-vulkan-drivers) mesa-vulkan-drivers)"

