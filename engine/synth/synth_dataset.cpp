@@ -12,6 +12,7 @@
 
 #include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
+#include "engine/io/staged_folder.h"
 #include "engine/io/image_io.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
@@ -356,23 +357,13 @@ void checkSynthOutputDir(const std::string& outDir) {
 
 void generateSynthDataset(const SynthPreset& preset, const std::string& outDir, const SynthWriteOptions& options) {
   checkSynthOutputDir(outDir);
-  fs::path out = fs::absolute(outDir);
-  if (out.filename().empty()) out = out.parent_path();
-  fs::path tmp = out.string() + ".tmp-" + std::to_string(getpid());
-  std::error_code ec;
-  fs::remove_all(tmp, ec);
-  if (!fs::create_directory(tmp, ec)) fail("synth: cannot create " + tmp.string() + (ec ? ": " + ec.message() : ""));
+  StagedFolder staged(outDir, "synth: -o");  // the dataset appears whole or not at all
   try {
-    writeSynthDataset(preset, tmp.string(), options);
-    if (fs::exists(out)) fs::remove(out);  // checked empty above
-    fs::rename(tmp, out);
+    writeSynthDataset(preset, staged.path, options);
   } catch (const fs::filesystem_error& e) {
-    fs::remove_all(tmp, ec);
     fail("synth: writing " + outDir + " failed: " + e.what());
-  } catch (...) {
-    fs::remove_all(tmp, ec);
-    throw;
   }
+  staged.commit();
 }
 
 }  // namespace refrax::synth
