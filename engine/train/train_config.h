@@ -65,6 +65,13 @@ struct TrainConfig {
   // (COLMAP's, moved to their paraxial true depth; engine/train/init_gaussians.h), the rest
   // as initDepth says.
   bool initPoints = false;
+  // Studies of the water's chain (issue 45): the initial (and restarted) Gaussians read from a
+  // 3DGS PLY (an absolute path; e.g. a --known-water run's point_cloud.ply) instead of drawn,
+  // and, with gaussiansFixed, kept as read: no Adam step, no density schedule, no densification,
+  // every SH degree on from step 1. Only the water then learns, against Gaussians that already
+  // fit the true water, so what the surface reaches says whether its gradient chain is sound.
+  std::string gaussiansFrom;
+  bool gaussiansFixed = false;
   uint32_t maxGaussians = 1000000;
   double initialDensity = 0.1;
   uint32_t maxShDegree = 3;

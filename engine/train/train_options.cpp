@@ -1,6 +1,7 @@
 #include "engine/train/train_options.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <cerrno>
 #include <climits>
 #include <cmath>
@@ -119,6 +120,22 @@ TrainOption switchOption(const std::string& flag, const std::string& key, const 
   return o;
 }
 
+// A file, stored as an absolute path (config.json then names it wherever the run is opened).
+TrainOption filePath(const std::string& flag, const std::string& key, const std::string& metavar, const std::string& help,
+                     Ref<std::string> ref) {
+  TrainOption o = row(flag, key, metavar, help);
+  o.get = [ref](const TrainConfig& c) { return json(ref(const_cast<TrainConfig&>(c))); };
+  o.set = [ref](TrainConfig& c, const json& v, const std::string& name) {
+    if (!v.is_string()) fail(name + " must be a file's path, got " + v.dump());
+    ref(c) = v.get<std::string>();
+  };
+  o.parse = [](const std::string& text, const std::string& name) {
+    if (text.empty()) fail(name + " needs a file");
+    return json(std::filesystem::absolute(text).lexically_normal().string());
+  };
+  return o;
+}
+
 TrainOption choice(const std::string& flag, const std::string& key, const std::string& metavar, const std::string& help,
                    Ref<std::string> ref, std::vector<std::string> choices) {
   TrainOption o = row(flag, key, metavar, help);
@@ -206,6 +223,14 @@ std::vector<TrainOption> makeTable() {
                            "down to their true depth through the flat water; points above it dropped), at most --gaussians of them; the "
                            "rest as --init-depth says",
                            field(&TrainConfig::initPoints), true));
+  t.push_back(filePath("gaussians-from", "gaussians_from", "PLY",
+                       "study: the initial (and restarted) Gaussians read from a 3DGS PLY (e.g. a --known-water run's point_cloud.ply) "
+                       "instead of drawn; their count replaces --gaussians",
+                       field(&TrainConfig::gaussiansFrom)));
+  t.push_back(switchOption("gaussians-fixed", "gaussians_fixed",
+                           "study: with --gaussians-from, the Gaussians stay as read (no Adam, no density schedule, no densification, "
+                           "every SH degree from step 1): only the water learns (docs/training.md)",
+                           field(&TrainConfig::gaussiansFixed), true));
   t.push_back(shown(required(integer<uint32_t>("max-gaussians", "max_gaussians", "N", "cap on the Gaussian count (enforced by densification)",
                                                field(&TrainConfig::maxGaussians), 1, 100000000)),
                     "from the data: the initial count (at least --gaussians)"));

@@ -53,6 +53,14 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
          " (check --water-height or water.json's \"height\" against `refrax inspect`)");
   c.extent = sceneExtent(cams);
   applyModelSizing(c, cams);  // after the domain: the sizing reads what the views see of it
+  if (c.gaussiansFixed && c.gaussiansFrom.empty()) fail("--gaussians-fixed needs --gaussians-from PLY: fixed random Gaussians learn nothing");
+  if (!c.gaussiansFrom.empty()) {
+    if (c.initPoints || c.initDepth != "box") fail("--gaussians-from replaces the drawn Gaussians: it takes no --init-points or --init-depth");
+    const size_t count = readGaussiansPly(c.gaussiansFrom).count();  // refrax::Error naming the file
+    if (count == 0) fail("--gaussians-from " + c.gaussiansFrom + " holds no Gaussians");
+    c.initialGaussians = uint32_t(count);
+    c.maxGaussians = std::max(c.maxGaussians, c.initialGaussians);
+  }
   for (const Camera& cam : cams)
     if (c.patch > 0 && (int(c.patch) > cam.width || int(c.patch) > cam.height))
       fail("--patch " + std::to_string(c.patch) + " is larger than the " + std::to_string(cam.width) + " x " + std::to_string(cam.height) +

@@ -12,6 +12,7 @@
 #include "engine/gaussian/gaussian_math.h"
 #include "engine/height/height_field_source.h"
 #include "engine/surface/surface_prior.h"
+#include "engine/io/ply_gaussians.h"
 #include "engine/train/init_gaussians.h"
 #include "engine/vk/strided_copy.h"
 #include "engine/train/plane_sweep.h"
@@ -148,6 +149,17 @@ PlaneSweepConfig boxSweepConfig(const TrainConfig& c) {
 // water as it is now (flat at step 0, learned at a restart).
 void drawGaussians(TrainSession& s) {
   const TrainConfig& c = s.config;
+  if (!c.gaussiansFrom.empty()) {
+    s.gaussians = readGaussiansPly(c.gaussiansFrom);
+    if (s.gaussians.count() != c.initialGaussians)
+      fail("--gaussians-from " + c.gaussiansFrom + " now holds " + std::to_string(s.gaussians.count()) + " Gaussians, the run started from " +
+           std::to_string(c.initialGaussians));
+    validateGaussians(s.gaussians, c.gaussiansFrom.c_str());
+    s.gaussiansAtPoints = 0;
+    s.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.gaussians.count());
+    s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
+    return;
+  }
   GaussianSet atPoints;
   s.gaussiansAtPoints = 0;
   if (c.initPoints)
@@ -553,6 +565,7 @@ double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
   std::vector<float> grads = downloadVector<float>(ctx, s.grads, s.gaussians.params.size());
   std::vector<float> stats = downloadVector<float>(ctx, s.stats, s.gaussians.count() * 2);
   const double densityLoss = c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.densityResult, 4)[0] : 0.0;
+  if (c.gaussiansFixed) return densityLoss;  // a study of the water alone: the Gaussians stay as read
   HostStage h(ctx, "gaussian adam (host)");
   const float statScale = densifyStatScale(batchRays);
   for (size_t i = 0; i < stats.size(); i += 2) {
@@ -582,6 +595,7 @@ bool mcmcStep(TrainSession& s, int t) {
 // table's rows changed.
 bool densifyStep(TrainSession& s, int t) {
   const TrainConfig& c = s.config;
+  if (c.gaussiansFixed) return false;
   if (c.densifyStrategy == "mcmc") return c.densify && c.schedule.densifyInterval > 0 && mcmcStep(s, t);
   bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
   bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
