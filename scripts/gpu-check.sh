@@ -171,7 +171,11 @@ fi
 tests_limit=$(awk -v m="$tests_minutes" 'BEGIN { printf "%d", m * 60 }')
 for b in "${backends[@]}"; do
   if [ -x "$TESTS" ]; then
-    REFRAX_TRACE=$b run "$tests_limit" "tests-$b" "$TESTS" --test-suite-exclude=long --test-case-exclude='refrax-view*' --duration=true
+    # rayquery-only (acceleration structures' own cases, the backends side by side) fail on the
+    # compute backend rather than pass having checked nothing: left out there by name
+    excluded_suites=long
+    [ "$b" = compute ] && excluded_suites=long,rayquery-only
+    REFRAX_TRACE=$b run "$tests_limit" "tests-$b" "$TESTS" --test-suite-exclude=$excluded_suites --test-case-exclude='refrax-view*' --duration=true
     summary_line=$(grep -E '^\[doctest\] test cases' "$out/tests-$b.log" | tail -n 1)
     # stopped at the limit: doctest still prints its summary, with the case it was in counted failed
     grep -q '^(stopped at the' "$out/tests-$b.log" &&
