@@ -75,13 +75,34 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
     CHECK(c.refraction["gaussians"].get<uint64_t>() == readGaussiansPly(c.dir / "refraction/point_cloud.ply").count());
     CHECK(c.refraction.contains("water_removal_psnr"));
     CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
-    // Beside the RMSE, the learned heights' correlation with the true ones (a correlation: in [-1, 1]).
+    // The surface's own metrics are reported, each consistent with its parts; how well each one
+    // judges a surface is tested where it is computed (correlation: test_metrics.cpp; the sweep
+    // agreement: test_plane_sweep.cpp; the mirror: test_water_sign.cpp). 300 steps leave this
+    // surface worse than the flat start: measured over three runs (lavapipe, the model sized from
+    // the data) surface RMSE 0.0376 to 0.0382 against a flat start of 0.0173, correlation 0.11 to
+    // 0.13, sweep ratio 2.04 to 2.07, mirror ratio 1.04 to 1.24 (warned in each). So no bound
+    // on the correlation or the mirror ratio holds from what this run must do; the one that
+    // does is the sweep's: a surface this far behind flat water must read as agreeing less.
+    // Beside the RMSE, the learned heights' correlation with the true ones at the same points:
+    // present, and a correlation.
+    const double rmse = c.refraction["surface_rmse"].get<double>(), flatRmse = c.refraction["initial_flat_surface_rmse"].get<double>();
+    CHECK(c.refraction["surface_points"].get<uint64_t>() > 0);
     CHECK(std::abs(c.refraction["surface_correlation"].get<double>()) <= 1);
     CHECK(!c.plain.contains("surface_correlation"));
     // The learned water's checks (docs/training.md, "Is the learned water right?"): only where water is learned.
-    CHECK(c.refraction["surface_agreement"]["ratio"].get<double>() > 0);
     CHECK(!c.refraction.contains("surface_unchecked"));
-    CHECK(c.refraction["surface_agreement"]["mirror_ratio"].get<double>() > 0);  // the waves against their mirror image
+    const nlohmann::json& agreement = c.refraction["surface_agreement"];
+    const double ratio = agreement["ratio"].get<double>();
+    CHECK(agreement["cells"].get<uint64_t>() > 0);
+    CHECK(agreement["flat_sweep_cost"].get<double>() > 0);
+    CHECK(ratio == doctest::Approx(agreement["sweep_cost"].get<double>() / agreement["flat_sweep_cost"].get<double>()));
+    CHECK(agreement["warned"].get<bool>() == (ratio > 1.02));  // engine/train/train_run.cpp kAgreementWarning
+    INFO("surface rmse " << rmse << " against the flat start's " << flatRmse << ", sweep ratio " << ratio);
+    if (rmse > 1.5 * flatRmse) CHECK(agreement["warned"].get<bool>());
+    // the waves against their mirror image: present, positive, and read against its 0.95 (kMirrorBetter)
+    const double mirror = agreement["mirror_ratio"].get<double>();
+    CHECK(mirror > 0);
+    CHECK(agreement["mirror_better"].get<bool>() == (mirror < 0.95));
     CHECK(c.refraction["surface_roughening"]["judged"].get<bool>());
     CHECK(c.refraction["surface_watch"].size() >= 50);
     CHECK(!c.plain.contains("surface_agreement"));
