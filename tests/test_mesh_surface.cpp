@@ -32,11 +32,13 @@ namespace {
 constexpr double kPointTol = 2e-6;
 constexpr double kDirTol = 1e-5;
 // The height grid walked cell by cell (the compute backend's path and the mesh swap's grid
-// path) finds the same points but interpolates the normals from barycentrics of its own: one
-// ray in one seed of 3,000-ray runs (REFRAX_TEST_SEED=866237663) was 2.8e-5 off in direction
-// (the BVH path: 3e-8 on the same ray; 0 failures in 40 other seeds at 1e-5). Its cause in the
-// walk is not found yet; the walk's directions are held to this.
-constexpr double kGridDirTol = 5e-5;
+// path) is held to the same: it was held to 5e-5 after one ray in one seed
+// (REFRAX_TEST_SEED=866237663) came out 2.8e-5 off, at s = 0.019 on a 0.107 m triangle whose
+// vertex normals differ by 0.38, 2.5 m from the camera (the BVH path: 3e-8 on the same ray).
+// Moeller-Trumbore from the camera: t and the barycentrics each good to eps 2.5 / (s L) =
+// 7e-5 in barycentrics, independently, so the normal at the GPU's barycentrics and at its point
+// differ by 0.38 x 8e-5 = 3e-5. The walk now tests from the box entry, as the BVH does
+// (shaders/include/grid_walk.glsl), and fits kDirTol with the others.
 
 // GPU against the reference; `referenceMesh` when the device got another copy of the mesh.
 // `grid`: the mesh is that height grid, walked cell by cell instead of the BVH.
@@ -51,13 +53,22 @@ ref::MeshRefractReport compareWithReference(Context& ctx, const SurfaceMesh& mes
   ref::MeshRefractOptions opt;
   opt.ior = ior;
   ref::MeshRefractReport rep = ref::compareMeshRefraction(refMesh, meshUnitNormals(refMesh), rays, run.refracted, run.flags, opt, kPointTol,
-                                                         grid ? kGridDirTol : kDirTol);
+                                                         kDirTol);
   MESSAGE("rays " << rep.rays << ": hits " << rep.hits << " (back-facing " << rep.backFacing << "), misses " << rep.misses
-                  << ", invalid " << rep.invalid << ", ambiguous " << rep.ambiguous << "; worst point " << rep.worstPoint << " direction "
+                  << ", invalid " << rep.invalid << ", ambiguous " << rep.ambiguous << ", direction excused " << rep.excused << " widened "
+                  << rep.widened << "; worst point " << rep.worstPoint << " direction "
                   << rep.worstDir << " tmax " << rep.worstTmax);
   INFO(rep.firstProblem);
   CHECK(rep.mismatched == 0);
   CHECK(rep.nonFinite == 0);
+  // What the reference excuses stays rare, so a wrong direction cannot hide in it. Excused (no
+  // direction compared: s < 1e-4 or |n.d| < 1e-5) and widened (off by more than kDirTol, within
+  // the tolerance's 0.01 / s widening): 0 and 0 in every case of three seeds on both backends
+  // (after the walk's fix). A ray direction at random to a plane has s < 1e-4 with chance
+  // about 1e-4 and s < 0.01 with about 1e-2 (|cos| is uniform for isotropic directions): the
+  // bars allow a few times those, and 2 more for the smaller sets (410 hits at edges: 0.04 expected).
+  CHECK(rep.excused <= 2 + rep.hits / 1000);
+  CHECK(rep.widened <= 2 + rep.hits / 100);
   return rep;
 }
 

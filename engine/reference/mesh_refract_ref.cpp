@@ -166,7 +166,7 @@ MeshRefractReport compareMeshRefraction(const SurfaceMesh& mesh, const std::vect
     dvec3 o(rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]), d = glm::normalize(dvec3(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2]));
     double tg = glm::dot(p - o, d);  // the GPU's hit distance
     double offRay = glm::length(p - (o + tg * d)) / std::max(std::fabs(tg), 1.0);
-    bool matched = false;
+    bool matched = false, bestExcused = false, bestWidened = false;
     double bestP = 0, bestW = 0, bestT = 0, bestScore = std::numeric_limits<double>::infinity();
     for (const MeshHitRef& h : r.acceptable) {
       // The reference at the GPU's point: its barycentrics on h's triangle (orthogonal projection).
@@ -185,19 +185,30 @@ MeshRefractReport compareMeshRefraction(const SurfaceMesh& mesh, const std::vect
       double ep = std::fabs(tg - h.t) * std::max(s, 1e-12) / std::max(h.t, 1.0);  // |dt| relative to its conditioning
       double refTmax = std::max(r.rayTmax - tg, 0.0);
       double et = std::fabs(double(g.tmax) - refTmax) / std::max(refTmax, 1.0);
-      bool grazing = std::fabs(facing) < facingEps;
-      double ew = grazing ? 0.0 : glm::length(w - wRef);
-      bool flagOk = grazing || ((flags & kSurfaceBackFacing) != 0) == backFacing;
       // A ray nearly in the triangle's plane (s small) gets its barycentrics, and so its
       // interpolated normal, from a determinant proportional to s: in float they are good to
-      // about eps / s, so the direction's tolerance widens as 1/s below s = 0.01 (0.6 degrees).
-      // Seen: s = 9e-4, |dw| 1.2e-5 on the compute backend's walk (seed 4092548225).
-      const double wTol = dirTol * std::max(1.0, 0.01 / std::max(s, 1e-12));
+      // about eps |o - P0| / (s L) (L the triangle's size, o the origin the test runs from), and
+      // the direction to that times how fast the normals turn across the triangle. With the
+      // tests' meshes (|o - P0| up to ~0.3 from the box entry, L ~ 0.1, normals turning ~0.5
+      // across a triangle) that is about 1e-7 / s: dirTol (1e-5) down to s = 0.01 (0.6
+      // degrees), widening as 0.01 / s below it. The widening stops at s = kGrazingS, where the
+      // tolerance has reached 100 dirTol (1e-3): below it no float tracer's direction is good
+      // to any bound that would still catch an error, so such hits are excused from the
+      // direction and facing comparison (their point and range still are compared) and
+      // counted (MeshRefractReport::excused), for a caller to bound their share. So are hits
+      // whose interpolated normal is within facingEps of the ray's plane (the flip is a float
+      // decision there). Seen: s = 9e-4, |dw| 1.2e-5 on the compute backend's walk (seed 4092548225).
+      const bool grazing = std::fabs(facing) < facingEps || s < kGrazingS;
+      double ew = grazing ? 0.0 : glm::length(w - wRef);
+      bool flagOk = grazing || ((flags & kSurfaceBackFacing) != 0) == backFacing;
+      const double wTol = dirTol * std::max(1.0, 0.01 / std::max(s, kGrazingS));
       if (offRay <= pointTol && ep <= pointTol && et <= pointTol && ew <= wTol && flagOk) {
         double score = ep / pointTol + ew / wTol;
         if (score < bestScore) {
           bestScore = score;
           bestP = std::max(ep, offRay), bestW = ew, bestT = et;
+          bestExcused = grazing;
+          bestWidened = ew > dirTol;
           matched = true;
         }
       }
@@ -213,6 +224,8 @@ MeshRefractReport compareMeshRefraction(const SurfaceMesh& mesh, const std::vect
       problem(i, what);
       continue;
     }
+    rep.excused += bestExcused;
+    rep.widened += bestWidened;
     rep.worstPoint = std::max(rep.worstPoint, bestP);
     rep.worstDir = std::max(rep.worstDir, bestW);
     rep.worstTmax = std::max(rep.worstTmax, bestT);

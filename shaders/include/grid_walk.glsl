@@ -54,7 +54,15 @@ bool gridHit(vec3 o, vec3 d, float tmin, float tmax, uvec2 cells, vec4 domain, v
     t1 = min(t1, max(ta, tb));
   }
   if (t0 > t1) return false;
-  vec2 p = (o.xy + t0 * d.xy - lo) / size;
+  // Every triangle is tested from where the ray enters the box, as the BVH walk does
+  // (triangle_bvh.glsl): Moeller-Trumbore's t and barycentrics come from separate dot products
+  // of the origin's offset from the triangle, each good to about eps |o - P0| / (s L) in
+  // barycentrics (s = |cos| between ray and plane, L the triangle's size). From a camera 2.5 m
+  // away that put the refracted direction, which interpolates vertex normals at the GPU's
+  // barycentrics, 2.8e-5 off where the point says (s = 0.02 on 0.1 m cells); from the box
+  // entry |o - P0| is the ray's path through the height range, a tenth of that or less.
+  vec3 near = o + t0 * d;
+  vec2 p = (near.xy - lo) / size;
   ivec2 cell = clamp(ivec2(floor(p)), ivec2(0), ivec2(cells) - 1);
   ivec2 step = ivec2(d.x > 0.0 ? 1 : -1, d.y > 0.0 ? 1 : -1);
   // ray t at the next cell boundary in x and y, and between boundaries
@@ -77,15 +85,15 @@ bool gridHit(vec3 o, vec3 d, float tmin, float tmax, uvec2 cells, vec4 domain, v
     float th;
     vec2 bh;
     // the two triangles of grid_mesh.cpp: (a, b, d) and (a, d, c)
-    if (hitTriangle(o, d, A, B, D, tmin, min(best, tmax), th, bh)) {
-      best = th;
+    if (hitTriangle(near, d, A, B, D, tmin - t0, min(best, tmax) - t0, th, bh)) {
+      best = th + t0;
       corners = uvec3(a, b, dd);
       hitCell = uvec2(cell);
       side = 0u;
       bary = bh;
     }
-    if (hitTriangle(o, d, A, D, C, tmin, min(best, tmax), th, bh)) {
-      best = th;
+    if (hitTriangle(near, d, A, D, C, tmin - t0, min(best, tmax) - t0, th, bh)) {
+      best = th + t0;
       corners = uvec3(a, dd, c);
       hitCell = uvec2(cell);
       side = 1u;
