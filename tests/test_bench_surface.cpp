@@ -60,4 +60,37 @@ TEST_CASE("bench surface: one CSV row per MLP width and grid, with stage times a
       stages++;
     }
   CHECK(stages >= 5);
+  // The hit errors |p.z - H(p.xy)| (err_median, err_p99, err_max): ordered, and shrinking as the
+  // proxy refines towards the MLP's surface. The same weights and rays at a finest grid of 128
+  // instead of 32 cells: measured median 3.83e-2 -> 1.24e-2 (64: 2.70e-2), the same on both
+  // backends (the bench's MLP is seeded); its p99 and max stay near 0.2 and 0.3 (a few rays
+  // through the steepest parts), so only the median is held to shrink.
+  auto errors = [](const std::vector<std::string>& row) {
+    std::vector<double> e;
+    for (size_t k = 16; k < 19; k++) e.push_back(std::stod(row[k]));
+    return e;
+  };
+  std::vector<double> coarse = errors(cols);
+  INFO("err median, p99, max at 32 cells: " << coarse[0] << " " << coarse[1] << " " << coarse[2]);
+  CHECK(coarse[0] > 0);  // a 32-cell proxy of a random MLP is not its surface
+  CHECK(coarse[0] <= coarse[1]);
+  CHECK(coarse[1] <= coarse[2]);
+  test::CliResult fine = test::runCli("bench surface --rays 24 --widths 16 --grids 8 --finest 128 --hidden 2 --runs 1 --csv " +
+                                      (dir / "fine.csv"));
+  INFO(fine.output);
+  REQUIRE(fine.exitCode == 0);
+  std::stringstream fineCsv(readFile(dir / "fine.csv"));
+  std::string fineRow;
+  REQUIRE(std::getline(fineCsv, fineRow));
+  REQUIRE(std::getline(fineCsv, fineRow));
+  std::vector<std::string> fineCols;
+  std::stringstream fineAll(fineRow.substr(fineRow.find("\",") + 2));
+  while (std::getline(fineAll, col, ',')) fineCols.push_back(col);
+  REQUIRE(fineCols.size() == 19);
+  CHECK(fineCols[4] == "4");  // 8 << 4 = 128 finest cells
+  std::vector<double> refined = errors(fineCols);
+  INFO("err median, p99, max at 128 cells: " << refined[0] << " " << refined[1] << " " << refined[2]);
+  CHECK(refined[0] <= refined[1]);
+  CHECK(refined[1] <= refined[2]);
+  CHECK(refined[0] < 0.5 * coarse[0]);
 }
