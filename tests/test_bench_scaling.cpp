@@ -13,6 +13,9 @@
 using namespace refrax;
 namespace fs = std::filesystem;
 
+// The rows' gaussians and grid_cells are what each measured session trained (the bench reads
+// them back from it), so a setting that did not take effect (the data's model-size rule
+// deriving its own grid: 16 cells on this dataset) shows as a row that is not the setting.
 TEST_CASE("bench scaling: one CSV row per setting with positive step and frame times and peak memory" * doctest::test_suite("one-backend")) {
   test::TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
@@ -38,6 +41,7 @@ TEST_CASE("bench scaling: one CSV row per setting with positive step and frame t
     CHECK(peak > 10);  // MiB: the process itself, the dataset and the device buffers on lavapipe
   }
   CHECK(!std::getline(csv, line));
+  CHECK(r.output.find("device: " + test::context().caps.name) != std::string::npos);
 }
 
 TEST_CASE("bench scaling: bad options are one clear error") {

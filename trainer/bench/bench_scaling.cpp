@@ -71,6 +71,8 @@ struct Setting {
 
 struct Timing {
   int width = 0, height = 0;
+  size_t gaussians = 0;   // what the session trained, not what was asked for (the CSV's columns)
+  uint32_t gridCells = 0;
   double stepMs = 0, renderMs = 0, peakMiB = 0;
 };
 
@@ -98,6 +100,8 @@ Timing measure(Context& ctx, const std::string& datasetDir, const Setting& s, co
   t.stepMs = bench::medianMs(warmup, runs, [&] { trainStep(ts); });
   t.renderMs = bench::medianMs(1, runs, [&] { renderView(ts, cam, WaterView::Keep); });
   t.peakMiB = peakMemoryMiB();
+  t.gaussians = ts.gaussians.count();
+  t.gridCells = ts.surface ? ts.surface->config.gridCells : 0;
   return t;
 }
 
@@ -129,12 +133,12 @@ int runBenchScaling(const cli::Args& args) {
   measure(*ctx, datasets[0], settings[0], args);
   for (const auto& s : settings) {
     Timing t = measure(*ctx, datasets[s.dataset], s, args);
-    std::printf("%-10s %4dx%-4d %9ld %6ld %10.1f %10.1f %10.0f\n", s.sweep.c_str(), t.width, t.height, s.gaussians, s.gridCells, t.stepMs,
+    std::printf("%-10s %4dx%-4d %9zu %6u %10.1f %10.1f %10.0f\n", s.sweep.c_str(), t.width, t.height, t.gaussians, t.gridCells, t.stepMs,
                 t.renderMs, t.peakMiB);
     std::fflush(stdout);
     char row[320];
-    std::snprintf(row, sizeof row, "%s,%d,%d,%d,%ld,%ld,%ld,%.3f,%.3f,%.1f,\"%s\"\n", s.sweep.c_str(), t.width, t.height, t.width * t.height,
-                  s.gaussians, s.gridCells, sh, t.stepMs, t.renderMs, t.peakMiB, ctx->caps.name.c_str());
+    std::snprintf(row, sizeof row, "%s,%d,%d,%d,%zu,%u,%ld,%.3f,%.3f,%.1f,\"%s\"\n", s.sweep.c_str(), t.width, t.height, t.width * t.height,
+                  t.gaussians, t.gridCells, sh, t.stepMs, t.renderMs, t.peakMiB, ctx->caps.name.c_str());
     csv += row;
     if (!csvPath.empty()) writeTextAtomic(csvPath, csv);  // rows so far survive an interrupted run
   }
