@@ -2,8 +2,18 @@
 # The main job on a tiny synthetic example: install what is missing, build, then
 # synthesise -> train (and the two comparison models) -> render -> evaluate -> print metrics.
 # A few minutes on lavapipe (2 cores).
+#   scripts/demo.sh            the demo, into demo-out/ (REFRAX_DEMO_DIR)
+#   scripts/demo.sh --record   the same, and its summary with what made it (date, device,
+#                              settings, training code) written to bench/results/demo/: the
+#                              README quotes the demo's figures from there
 set -euo pipefail
 cd "$(dirname "$0")/.."
+record=0
+case "${1:-}" in
+  "") ;;
+  --record) record=1 ;;
+  *) echo "demo.sh: unknown option $1 (--record, or none)" >&2; exit 2 ;;
+esac
 [ "${REFRAX_SKIP_INSTALL:-0}" = 1 ] || bash scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build -j"$(nproc)"
@@ -36,3 +46,23 @@ done
 echo
 echo "== tiny nerfrac-primary-sine, $STEPS steps, $GAUSSIANS Gaussians (metrics.json in each run folder)"
 cat "$OUT/summary.txt"
+if [ $record = 1 ]; then
+  rec=bench/results/demo
+  mkdir -p "$rec"
+  cp "$OUT/summary.txt" "$rec/summary.txt"
+  # The training code the figures come from, as bench/stability.sh names it ("unknown" with
+  # local changes there: such figures are no record of a commit).
+  code=unknown
+  if git rev-parse --git-dir >/dev/null 2>&1 && [ -z "$(git status --porcelain -- engine shaders trainer CMakeLists.txt)" ]; then
+    code="$(git rev-parse --short HEAD) (trees $(git ls-tree HEAD engine shaders trainer CMakeLists.txt | git hash-object --stdin))"
+  fi
+  {
+    echo "date=$(date -u '+%Y-%m-%d %H:%M UTC')"
+    echo "device=$(./build/refrax devices 2>/dev/null | grep -m1 '^\[' | sed 's/^\[[0-9]*\] //; s/, Vulkan.*//')"
+    echo "cores=$(nproc)"
+    echo "settings=tiny nerfrac-primary-sine, $STEPS steps of ${PATCH}x$PATCH patches, $GAUSSIANS Gaussians (cap $((2 * GAUSSIANS))); refraction: ${REFRACTION[*]}"
+    echo "code=$code"
+  } > "$rec/run_info.txt"
+  ./build/refrax report "$OUT/refraction" "$OUT/flat-water" "$OUT/no-refraction" -o "$rec/runs.csv" >/dev/null
+  echo "demo: recorded in $rec/ (summary.txt, run_info.txt, runs.csv)"
+fi

@@ -21,19 +21,7 @@ namespace fs = std::filesystem;
 using namespace refrax;
 using test::TrainTempDir;
 
-namespace {
-
-size_t lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
-
-// One error line that says `words`, a non-zero exit.
-void checkOneError(const test::CliResult& r, const std::string& words) {
-  INFO(r.output);
-  CHECK(r.exitCode != 0);
-  CHECK(r.output.find(words) != std::string::npos);
-  CHECK(lines(r.output) == 1);
-}
-
-}  // namespace
+using test::checkOneError;
 
 TEST_CASE("a surface that leaves the scene stops training with a clear message, not a normal run" * doctest::test_suite("one-backend")) {
   TrainTempDir dir;

@@ -29,12 +29,7 @@ namespace {
 
 size_t lineCount(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 
-void checkOneError(const test::CliResult& r, const std::string& words) {
-  INFO(r.output);
-  CHECK(r.exitCode != 0);
-  CHECK(r.output.find(words) != std::string::npos);
-  CHECK(lineCount(r.output) == 1);
-}
+using test::checkOneError;
 
 // The folders in `dir` whose names start with `stem` (the output and any staged sibling).
 std::vector<std::string> foldersStartingWith(const fs::path& dir, const std::string& stem) {

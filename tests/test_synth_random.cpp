@@ -22,10 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string textureDir() {
-  const char* source = std::getenv("REFRAX_SOURCE_DIR");  // a copied build's assets (scripts/gpu-check.sh --bundle)
-  return std::string(source ? source : REFRAX_SOURCE_DIR) + "/assets/textures";
-}
+using test::textureDir;
 
 constexpr double kPi = 3.14159265358979323846;
 

@@ -19,10 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string textureDir() {
-  const char* source = std::getenv("REFRAX_SOURCE_DIR");  // a copied build's assets (scripts/gpu-check.sh --bundle)
-  return std::string(source ? source : REFRAX_SOURCE_DIR) + "/assets/textures";
-}
+using test::textureDir;
+
 
 RayResult straightDown(const SynthPreset& p, double x, double y) {
   return shadeCameraRay(p.scene, &p.water, p.ior, {x, y, 3.0}, {0, 0, -1});

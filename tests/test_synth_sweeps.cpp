@@ -25,7 +25,7 @@ namespace {
 // The project's temporary folder (tests/train_test_util.h), removed at scope exit.
 using TempDir = test::TrainTempDir;
 
-std::string textureDir() { return (fs::path(__FILE__).parent_path().parent_path() / "assets" / "textures").string(); }
+using test::textureDir;
 
 double degreesFromVertical(const glm::dvec3& axis) { return std::acos(glm::normalize(axis).z) * 180 / M_PI; }
 

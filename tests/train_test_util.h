@@ -1,6 +1,8 @@
 #pragma once
 // Shared by the training tests: a temporary folder, and tiny synthetic datasets generated
 // once per test process by the `refrax synth` CLI.
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -38,6 +40,21 @@ inline std::string tinyDataset(const std::string& preset, const std::string& opt
   CliResult r = runCli("synth " + preset + " --size tiny " + options + " -o " + dir);
   REQUIRE_MESSAGE(r.exitCode == 0, r.output);
   return made[key] = dir;
+}
+
+// The repository's textures (assets/textures), or a copied build's (scripts/gpu-check.sh --bundle
+// sets REFRAX_SOURCE_DIR).
+inline std::string textureDir() {
+  const char* source = std::getenv("REFRAX_SOURCE_DIR");
+  return std::string(source ? source : REFRAX_SOURCE_DIR) + "/assets/textures";
+}
+
+// A refusal as the CLI must give it: a non-zero exit and one line that says `words`.
+inline void checkOneError(const CliResult& r, const std::string& words) {
+  INFO(r.output);
+  CHECK(r.exitCode != 0);
+  CHECK(r.output.find(words) != std::string::npos);
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
 }
 
 // A configuration for driving a TrainSession directly: `steps` steps of `patch` x `patch`
