@@ -30,6 +30,7 @@ TrainConfig resolvedConfig() {
 const std::map<std::string, std::pair<std::string, std::string>> kSamples = {
     {"no-refraction", {"", ""}}, {"flat-water", {"", ""}}, {"known-water", {"", ""}},
     {"steps", {"123", "0"}}, {"seed", {"77", "-1"}}, {"gaussians", {"321", "0"}}, {"init-depth", {"sweep", "deep"}}, {"init-points", {"", ""}},
+    {"gaussians-from", {"oracle/point_cloud.ply", ""}}, {"gaussians-fixed", {"", ""}},
     {"max-gaussians", {"2000000", "0"}}, {"initial-density", {"0.25", "1"}}, {"sh-degree", {"1", "4"}},
     {"k-buffer", {"16", "65"}}, {"hit-records", {"8", "1025"}}, {"proxy", {"instanced", "sphere"}},
     {"mlp-width", {"32", "257"}}, {"mlp-layers", {"2", "0"}}, {"mlp-octaves", {"4", "17"}},
