@@ -1,9 +1,7 @@
 // refrax synth: generates a synthetic dataset with ground-truth water (NeRFrac-like and
 // RefracGS-like presets, or `random`: a scene drawn from its seed, engine/synth/synth_random.h)
 // on the CPU, with a renderer that shares no code with the trainer.
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -20,9 +18,6 @@ namespace fs = std::filesystem;
 
 namespace refrax {
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-extern "C" void onSynthInterrupt(int) { g_interrupted.store(true); }
 
 std::string presetList() {
   std::string s;
@@ -89,9 +84,7 @@ int runSynth(const cli::Args& args) {
   o.progress = size == "full";
   o.dry = args.has("dry");
   // Stop between views on Ctrl-C so the temporary folder is removed rather than left behind.
-  o.cancel = &g_interrupted;
-  std::signal(SIGINT, onSynthInterrupt);
-  std::signal(SIGTERM, onSynthInterrupt);
+  o.cancel = &cli::catchInterrupts();
   std::printf("synth %s (%s, seed %ld): %zu train, %zu test, %zu air views, %d x %d px, %zu triangles -> %s\n", name.c_str(), size.c_str(),
               seed, preset.train.size(), preset.test.size(), preset.air.size(), preset.train.front().width, preset.train.front().height,
               preset.scene.bvh.triangles.size(), out.c_str());
