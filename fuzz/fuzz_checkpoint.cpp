@@ -2,7 +2,7 @@
 // a fuzzer that had to forge FNV-1a sums would never get past the first check.
 #include <cstring>
 
-#include "engine/train/checkpoint_format.h"
+#include "engine/run/checkpoint_format.h"
 #include "fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,5 +1,5 @@
 // glTF water meshes, as .gltf (JSON) or .glb (binary) by the input's first byte.
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,5 +1,5 @@
 // Gaussian PLY files (3DGS's point_cloud.ply layout).
-#include "engine/io/ply_gaussians.h"
+#include "engine/gaussian/ply_gaussians.h"
 #include "fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

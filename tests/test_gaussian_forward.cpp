@@ -5,6 +5,7 @@
 
 #include "engine/reference/camera_rays_ref.h"
 #include "engine/gaussian/water_removal.h"
+#include "engine/view/view_camera.h"
 #include "engine/gaussian/gaussian_math.h"
 #include "engine/gaussian/gaussian_trace.h"
 #include "engine/trace/presort.h"

@@ -14,7 +14,7 @@
 #include "engine/gaussian/gaussian_math.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
-#include "engine/io/ply_gaussians.h"
+#include "engine/gaussian/ply_gaussians.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -1,4 +1,4 @@
-// --gaussians-from and --gaussians-fixed (engine/train/train_config.h): the study of the water's
+// --gaussians-from and --gaussians-fixed (engine/run/train_config.h): the study of the water's
 // chain with the Gaussians held at a fit that is already right (issue 45). The Gaussians read
 // are the run's first ones; fixed, they leave the run byte for byte as they came, while the
 // water learns.
@@ -9,7 +9,7 @@
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
-#include "engine/io/ply_gaussians.h"
+#include "engine/gaussian/ply_gaussians.h"
 #include "tests/gpu_test.h"
 #include "tests/train_test_util.h"
 

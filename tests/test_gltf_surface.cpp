@@ -15,7 +15,7 @@
 #include "engine/base/error.h"
 #include "engine/surface/grid_mesh.h"
 #include "engine/io/atomic_file.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 
 using namespace refrax;
 

@@ -12,7 +12,7 @@
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
-#include "engine/io/ply_gaussians.h"
+#include "engine/gaussian/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
 #include "tests/gpu_test.h"
 #include "tests/train_test_util.h"

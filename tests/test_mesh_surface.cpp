@@ -14,7 +14,7 @@
 #include "engine/height/analytic_height.h"
 #include "engine/base/error.h"
 #include "engine/surface/grid_mesh.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/surface/mesh_surface.h"
 #include "engine/reference/mesh_refract_ref.h"
 #include "tests/gpu_test.h"

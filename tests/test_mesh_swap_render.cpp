@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "engine/dataset/dataset.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/surface/mesh_surface.h"
 #include "engine/reference/gaussian_trace_ref.h"
 #include "engine/reference/mesh_refract_ref.h"

@@ -12,7 +12,7 @@
 #include "engine/base/error.h"
 #include "engine/io/json_io.h"
 #include "engine/train/model_sizing.h"
-#include "engine/train/train_config.h"
+#include "engine/run/train_config.h"
 #include "tests/train_test_util.h"
 
 namespace refrax {

@@ -7,7 +7,7 @@
 #include <map>
 #include <set>
 
-#include "engine/height/height_field_source.h"
+#include "engine/surface/height_field_source.h"
 #include "engine/reference/height_field_ref.h"
 #include "engine/reference/surface_ref.h"
 #include "engine/surface/surface_math.h"

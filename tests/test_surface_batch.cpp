@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "engine/height/height_field_source.h"
+#include "engine/surface/height_field_source.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_test_util.h"
 

@@ -12,7 +12,7 @@
 #include "engine/base/error.h"
 #include "engine/reference/adam_ref.h"
 #include "engine/gaussian/gaussians.h"
-#include "engine/optim/table_adam.h"
+#include "engine/gaussian/gaussian_adam.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

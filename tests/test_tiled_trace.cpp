@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "engine/view/fly_camera.h"
+#include "engine/view/view_camera.h"
 #include "engine/reference/camera_rays_ref.h"
 #include "engine/base/shared_math.h"
 #include "engine/surface/surface_math.h"

@@ -1,4 +1,4 @@
-// The training options' table (engine/train/train_options.h): the parser, config.json and
+// The training options' table (engine/run/train_options.h): the parser, config.json and
 // validation come from its rows, so each row is checked once here: a non-default value goes
 // from the command line's text into TrainConfig, through config.json and back unchanged, an
 // out-of-range value is refused naming the flag, and --help lists every flag.
@@ -7,7 +7,7 @@
 #include <map>
 
 #include "engine/base/error.h"
-#include "engine/train/train_options.h"
+#include "engine/run/train_options.h"
 #include "tests/gpu_test.h"
 
 using namespace refrax;

@@ -9,10 +9,10 @@
 #include "engine/dataset/dataset.h"
 #include "engine/base/error.h"
 #include "engine/io/json_io.h"
-#include "engine/train/train_config.h"
+#include "engine/run/train_config.h"
 #include "engine/train/train_run.h"
 #include "engine/train/train_session.h"
-#include "engine/train/train_views.h"
+#include "engine/run/train_views.h"
 #include "tests/gpu_test.h"
 #include "tests/train_test_util.h"
 

@@ -14,7 +14,7 @@
 #include "engine/io/image_io.h"
 #include "engine/surface/builtin_surfaces.h"
 #include "engine/surface/grid_mesh.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/train_run.h"
 #include "tests/gpu_test.h"

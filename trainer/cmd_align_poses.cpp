@@ -14,7 +14,7 @@
 #include "engine/dataset/pose_alignment.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace fs = std::filesystem;
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "engine/base/error.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax::bench {
 

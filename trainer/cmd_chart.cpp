@@ -4,7 +4,7 @@
 
 #include "engine/base/error.h"
 #include "engine/report/csv_chart.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "engine/vk/vk_context.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

@@ -7,7 +7,7 @@
 #include "engine/model/render_model.h"
 #include "engine/model/open_model.h"
 #include "engine/vk/vk_context.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

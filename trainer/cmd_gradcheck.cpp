@@ -10,7 +10,7 @@
 #include "engine/train/gradient_check.h"
 #include "engine/train/train_run.h"
 #include "engine/vk/vk_context.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 #include "trainer/dataset_options.h"
 
 namespace refrax {

@@ -6,7 +6,7 @@
 #include "engine/dataset/dataset.h"
 #include "engine/dataset/scene_bounds.h"
 #include "engine/base/error.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 #include "trainer/dataset_options.h"
 
 namespace refrax {

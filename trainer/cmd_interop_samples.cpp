@@ -14,10 +14,10 @@
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_math.h"
 #include "engine/surface/grid_mesh.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/io/json_io.h"
-#include "engine/io/ply_gaussians.h"
-#include "trainer/cli.h"
+#include "engine/gaussian/ply_gaussians.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

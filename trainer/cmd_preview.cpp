@@ -8,7 +8,7 @@
 #include "engine/surface/surface_preview.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

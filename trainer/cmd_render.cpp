@@ -12,14 +12,14 @@
 
 #include "engine/surface/builtin_surface_spec.h"
 #include "engine/base/error.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/io/image_io.h"
 #include "engine/io/staged_folder.h"
 #include "engine/surface/mesh_surface.h"
 #include "engine/model/render_model.h"
 #include "engine/model/open_model.h"
 #include "engine/vk/vk_context.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

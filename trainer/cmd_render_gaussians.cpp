@@ -6,14 +6,15 @@
 #include <vector>
 
 #include "engine/view/fly_camera.h"
+#include "engine/view/view_camera.h"
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_math.h"
 #include "engine/gaussian/gaussian_trace.h"
 #include "engine/io/image_io.h"
-#include "engine/io/ply_gaussians.h"
+#include "engine/gaussian/ply_gaussians.h"
 #include "engine/vk/vk_context.h"
 #include "engine/gaussian/water_removal.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

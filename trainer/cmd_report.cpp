@@ -4,7 +4,7 @@
 
 #include "engine/base/error.h"
 #include "engine/report/run_report.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

@@ -11,7 +11,7 @@
 #include "engine/reference/random_rays.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 namespace {

@@ -12,7 +12,7 @@
 #include "engine/synth/synth_presets.h"
 #include "engine/synth/synth_random.h"
 #include "engine/synth/synth_rim.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace fs = std::filesystem;
 

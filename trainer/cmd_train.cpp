@@ -16,18 +16,18 @@
 #include "engine/io/json_io.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/model_sizing.h"
-#include "engine/train/train_options.h"
+#include "engine/run/train_options.h"
 #include "engine/train/train_run.h"
-#include "engine/train/train_views.h"
+#include "engine/run/train_views.h"
 #include "engine/vk/vk_context.h"
 #include "engine/vk/vk_profile.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 #include "trainer/dataset_options.h"
 
 namespace refrax {
 namespace {
 
-// The training options from the command line, through the table (engine/train/train_options.h):
+// The training options from the command line, through the table (engine/run/train_options.h):
 // each given flag's text parsed and checked by its row, the rest TrainConfig's defaults.
 TrainConfig configFromArgs(const cli::Args& a) {
   TrainConfig c;

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "engine/dataset/dataset.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax {
 

@@ -4,7 +4,7 @@
 #include <exception>
 
 #include "engine/base/error.h"
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 using namespace refrax;
 

@@ -5,7 +5,7 @@
 #include "engine/surface/builtin_surface_spec.h"
 #include "engine/base/error.h"
 #include "engine/surface/grid_mesh.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
 

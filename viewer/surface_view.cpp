@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "engine/surface/grid_mesh.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/model/open_model.h"
 #include "engine/vk/vk_context.h"
 

@@ -5,9 +5,9 @@
 
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_math.h"
-#include "engine/io/ply_gaussians.h"
+#include "engine/gaussian/ply_gaussians.h"
 #include "engine/model/open_model.h"
-#include "engine/train/checkpoint_files.h"
+#include "engine/run/checkpoint_files.h"
 #include "engine/vk/vk_context.h"
 
 namespace refrax {

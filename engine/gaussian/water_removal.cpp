@@ -5,24 +5,6 @@
 
 namespace refrax {
 
-Camera cameraFromFly(const FlyCamera& cam, int width, int height) {
-  if (width <= 0 || height <= 0) fail("camera with an empty image");
-  if (!(cam.tanHalfFovY > 0)) fail("camera with a non-positive field of view");
-  CameraBasis b = cameraBasis(cam);
-  Camera c;
-  c.cameraToWorld[0] = glm::dvec4(glm::dvec3(b.right), 0.0);
-  c.cameraToWorld[1] = glm::dvec4(glm::dvec3(b.up), 0.0);
-  c.cameraToWorld[2] = glm::dvec4(-glm::dvec3(b.forward), 0.0);
-  c.cameraToWorld[3] = glm::dvec4(glm::dvec3(cam.position), 1.0);
-  c.fy = 0.5 * height / double(cam.tanHalfFovY);
-  c.fx = c.fy;
-  c.cx = 0.5 * width;
-  c.cy = 0.5 * height;
-  c.width = width;
-  c.height = height;
-  return c;
-}
-
 std::vector<GpuTraceResult> renderWithoutWater(Context& ctx, GaussianTracer& tracer, const CameraRayPipelines& cameraRays,
                                                const GaussianProxies& proxies, const DeviceGaussians& gaussians, const Camera& camera,
                                                const TraceOptions& options, std::vector<GpuRay>* rays) {

@@ -6,14 +6,9 @@
 
 #include "engine/camera/camera.h"
 #include "engine/camera/camera_rays.h"
-#include "engine/view/fly_camera.h"
 #include "engine/gaussian/gaussian_trace.h"
 
 namespace refrax {
-
-// A look-at camera (viewer, CLI) as a dataset-convention pinhole camera of width x height
-// pixels, square pixels, vertical half-fov tangent cam.tanHalfFovY.
-Camera cameraFromFly(const FlyCamera& cam, int width, int height);
 
 // Renders every pixel of `camera`; results row-major. `rays`, when given, receives the
 // camera rays traced (for checks).

@@ -1,6 +1,6 @@
 #include "engine/height/analytic_height.h"
 
-#include "engine/surface/surface_math.h"
+#include "engine/height/height_math.h"
 #include "engine/vk/vk_buffer.h"
 
 namespace refrax {

@@ -5,7 +5,7 @@
 
 #include "engine/base/error.h"
 #include "engine/dataset/ground_truth.h"
-#include "engine/height/height_field_source.h"
+#include "engine/surface/height_field_source.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
 

@@ -24,7 +24,7 @@
 #include "engine/height/analytic_height.h"
 #include "engine/height/height_field.h"
 #include "engine/surface/water_surface.h"
-#include "engine/train/train_config.h"
+#include "engine/run/train_config.h"
 
 namespace refrax {
 

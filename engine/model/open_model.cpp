@@ -8,9 +8,9 @@
 #include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
-#include "engine/optim/table_adam.h"
-#include "engine/train/checkpoint_files.h"
-#include "engine/train/train_views.h"
+#include "engine/gaussian/gaussian_adam.h"
+#include "engine/run/checkpoint_files.h"
+#include "engine/run/train_views.h"
 #include "engine/vk/vk_commands.h"
 
 namespace refrax {

@@ -1,6 +1,6 @@
 #pragma once
 // A trained run's model, loaded without a training session: RUN/config.json (the resolved
-// configuration, engine/train/train_config.h), the dataset it names (for the cameras, the
+// configuration, engine/run/train_config.h), the dataset it names (for the cameras, the
 // training views the mean height is anchored over, and known water's waves), and the
 // parameters of the run's newest checkpoint (the Gaussians, the MLP's weights or the plane's
 // height; the optimisers' state, the RNG and the view order are left in the file).
@@ -10,7 +10,7 @@
 
 #include "engine/dataset/dataset.h"
 #include "engine/model/model.h"
-#include "engine/train/checkpoint_format.h"
+#include "engine/run/checkpoint_format.h"
 
 namespace refrax {
 

@@ -4,8 +4,6 @@
 
 #include "engine/base/error.h"
 #include "engine/base/shared_math.h"
-#include "engine/gaussian/gaussian_math.h"
-#include "engine/gaussian/gaussians.h"
 
 namespace refrax::f32 {
 #include "adam_update.glsl"
@@ -23,27 +21,6 @@ TableAdam createTableAdam(uint32_t rowWidth, std::vector<AdamColumns> groups, si
   adam.m.assign(rows * rowWidth, 0.0f);
   adam.v.assign(rows * rowWidth, 0.0f);
   return adam;
-}
-
-TableAdam createGaussianAdam(double extent, int lrSteps, size_t count) {
-  struct Columns {
-    const char* name;
-    uint32_t first, width;
-  };
-  const Columns columns[] = {{"position", f32::kGaussMean, 3},        {"rotation", f32::kGaussRotation, 4},
-                             {"scale", f32::kGaussLogScale, 3},       {"density", f32::kGaussLogitDensity, 1},
-                             {"sh_dc", f32::kGaussSH, 3},             {"sh_rest", f32::kGaussSH + 3, 45}};
-  std::vector<AdamColumns> groups;
-  for (const auto& c : columns) {
-    AdamColumns g;
-    g.name = c.name;
-    g.first = c.first;
-    g.width = c.width;
-    g.lr = referenceLearningRate(c.name, extent);
-    g.lr.steps = lrSteps;
-    groups.push_back(g);
-  }
-  return createTableAdam(kGaussianFloats, std::move(groups), count);
 }
 
 void tableAdamStep(TableAdam& adam, std::vector<float>& params, const std::vector<float>& grads, const AdamSettings& s) {

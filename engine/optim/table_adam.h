@@ -2,7 +2,7 @@
 // Adam on the host for parameter tables: rows of rowWidth floats, each column range its own
 // parameter group with its own learning rate and step count (as torch.optim.Adam with one
 // param group per tensor). The Gaussians are such a table (kGaussianFloats per Gaussian:
-// mean, rotation, scale, density, SH; the groups of engine/optim/adam.h referenceLearningRates),
+// mean, rotation, scale, density, SH; engine/gaussian/gaussian_adam.h makes it),
 // and the flat-water model's height a table of one row and one column. The update is the
 // device's (shaders/include/adam_update.glsl), in float as the shader computes it; on lavapipe
 // the "device" memory is host memory and this costs about as much as the shader would.
@@ -29,9 +29,6 @@ struct TableAdam {
 
 // Zero moments for `rows` rows.
 TableAdam createTableAdam(uint32_t rowWidth, std::vector<AdamColumns> groups, size_t rows);
-// The Gaussians' table: groups position, rotation, scale, density, sh_dc, sh_rest with the
-// reference rates for `extent`, the decaying ones over `lrSteps`.
-TableAdam createGaussianAdam(double extent, int lrSteps, size_t count);
 // One update of every group from `grads` (the table's layout; non-finite gradients count as
 // 0, so one bad ray cannot poison a parameter).
 void tableAdamStep(TableAdam& adam, std::vector<float>& params, const std::vector<float>& grads, const AdamSettings& settings = {});

@@ -20,7 +20,7 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/trace/rays.h"
 
 namespace refrax::ref {

@@ -1,6 +1,6 @@
 #pragma once
 // Surface swap (docs/method.md §1.4 "Surface editing"): any triangle mesh (e.g. read from glTF,
-// engine/io/gltf_surface.h) replaces the learned water surface, no retraining. Each camera
+// engine/surface/gltf_surface.h) replaces the learned water surface, no retraining. Each camera
 // ray is refracted at its closest hit on the mesh (interpolated vertex normals, Snell's law;
 // shaders/include/mesh_refract.glsl) and handed to the Gaussian tracer like the rays of
 // traceSurface. Also: baking a height source (e.g. the learned surface) into such a mesh
@@ -10,7 +10,7 @@
 
 #include "engine/trace/box_bvh.h"
 #include "engine/height/height_source.h"
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 #include "engine/trace/rays.h"
 #include "engine/surface/surface_record.h"
 #include "engine/vk/vk_accel.h"

@@ -8,7 +8,7 @@
 #include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/model/open_model.h"
-#include "engine/train/checkpoint_format.h"
+#include "engine/run/checkpoint_format.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
 

@@ -10,7 +10,7 @@
 // it. A missing, truncated, corrupted or mismatched file is one refrax::Error.
 #include <string>
 
-#include "engine/train/checkpoint_files.h"
+#include "engine/run/checkpoint_files.h"
 #include "engine/train/train_session.h"
 
 namespace refrax {

@@ -1,6 +1,6 @@
 #include "engine/train/checkpoint_watch.h"
 
-#include "engine/train/checkpoint_files.h"
+#include "engine/run/checkpoint_files.h"
 
 namespace refrax {
 

@@ -5,7 +5,7 @@
 
 #include "engine/base/error.h"
 #include "engine/height/height_field.h"
-#include "engine/height/height_field_source.h"
+#include "engine/surface/height_field_source.h"
 #include "engine/vk/vk_commands.h"
 
 namespace refrax {

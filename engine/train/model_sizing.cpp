@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "engine/base/error.h"
-#include "engine/train/train_config.h"
+#include "engine/run/train_config.h"
 
 namespace refrax {
 

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/model/open_model.h"
-#include "engine/train/train_config.h"
+#include "engine/run/train_config.h"
 #include "engine/train/train_session.h"
 
 namespace refrax {

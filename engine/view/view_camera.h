@@ -4,9 +4,12 @@
 // (a look-at camera, or a dataset camera scaled to the window).
 #include "engine/camera/camera.h"
 #include "engine/view/fly_camera.h"
-#include "engine/gaussian/water_removal.h"  // cameraFromFly: the fly camera as a pinhole Camera
 
 namespace refrax {
+
+// A look-at camera (viewer, CLI) as a dataset-convention pinhole camera of width x height
+// pixels, square pixels, vertical half-fov tangent cam.tanHalfFovY.
+Camera cameraFromFly(const FlyCamera& cam, int width, int height);
 
 // The fly camera looking where `camera` looks (roll is lost: fly cameras keep +z up), with
 // its vertical field of view; orbit target one unit ahead; speed kept from `like`.

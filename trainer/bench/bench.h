@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 namespace refrax::bench {
 

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "engine/optim/table_adam.h"
+#include "engine/gaussian/gaussian_adam.h"
 #include "engine/gaussian/densify.h"
 #include "engine/gaussian/gaussians.h"
 #include "engine/vk/vk_buffer.h"

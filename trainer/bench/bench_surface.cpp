@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "engine/base/error.h"
-#include "engine/height/height_field_source.h"
+#include "engine/surface/height_field_source.h"
 #include "engine/trace/ray_trace.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"

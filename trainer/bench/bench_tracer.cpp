@@ -20,6 +20,7 @@
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_math.h"
 #include "engine/gaussian/gaussian_trace.h"
+#include "engine/view/view_camera.h"
 #include "engine/io/json_io.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"

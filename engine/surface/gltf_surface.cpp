@@ -1,4 +1,4 @@
-#include "engine/io/gltf_surface.h"
+#include "engine/surface/gltf_surface.h"
 
 #include <tiny_gltf.h>
 

@@ -1,4 +1,4 @@
-#include "engine/height/height_field_source.h"
+#include "engine/surface/height_field_source.h"
 
 #include "engine/base/error.h"
 

@@ -1,4 +1,4 @@
-#include "engine/train/checkpoint_format.h"
+#include "engine/run/checkpoint_format.h"
 
 #include <cstring>
 #include <random>

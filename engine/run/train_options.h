@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/train/train_config.h"
+#include "engine/run/train_config.h"
 
 namespace refrax {
 

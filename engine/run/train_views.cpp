@@ -1,4 +1,4 @@
-#include "engine/train/train_views.h"
+#include "engine/run/train_views.h"
 
 #include <cmath>
 #include <string>

@@ -1,4 +1,4 @@
-#include "engine/train/checkpoint_files.h"
+#include "engine/run/checkpoint_files.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -7,7 +7,7 @@
 
 #include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
-#include "engine/train/checkpoint_format.h"
+#include "engine/run/checkpoint_format.h"
 
 namespace refrax {
 namespace {

@@ -1,4 +1,4 @@
-#include "engine/train/train_options.h"
+#include "engine/run/train_options.h"
 
 #include <algorithm>
 #include <filesystem>

@@ -142,7 +142,7 @@ struct TrainConfig {
   // of the rays and time per step, and the same number of steps sees P^2 / (w h) of the pixels).
   uint32_t patch = 0;
   // Training views used (number-of-views sweeps): 0 all of them, N an even spread of N
-  // (engine/train/train_views.h), applied wherever the run's dataset is loaded.
+  // (engine/run/train_views.h), applied wherever the run's dataset is loaded.
   uint32_t trainViews = 0;
 
   // The model's size from the data (engine/train/model_sizing.h): the config keys the command line

@@ -1,4 +1,4 @@
-#include "trainer/cli.h"
+#include "engine/app/cli.h"
 
 #include <algorithm>
 #include <cstdio>

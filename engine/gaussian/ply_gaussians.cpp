@@ -1,4 +1,4 @@
-#include "engine/io/ply_gaussians.h"
+#include "engine/gaussian/ply_gaussians.h"
 
 #include <cstring>
 #include <fstream>

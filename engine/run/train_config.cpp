@@ -1,10 +1,10 @@
-#include "engine/train/train_config.h"
+#include "engine/run/train_config.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "engine/base/error.h"
-#include "engine/train/train_options.h"
+#include "engine/run/train_options.h"
 
 namespace refrax {
 
@@ -89,7 +89,7 @@ void validateTrainConfig(const TrainConfig& c) {
   auto need = [](bool ok, const std::string& what) {
     if (!ok) fail("training configuration: " + what);
   };
-  // Every option's range (engine/train/train_options.cpp): each value through its checked setter.
+  // Every option's range (engine/run/train_options.cpp): each value through its checked setter.
   TrainConfig scratch = c;
   for (const TrainOption& o : trainOptionTable()) {
     if (o.key.empty()) continue;
