@@ -325,7 +325,7 @@ GPU_TEST_CASE("plane sweep: --init-depth sweep draws the first Gaussians onto th
     return double(on) / double(centre);
   };
   auto box = createTrainSession(ctx, c, d);
-  c.initDepth = "sweep";
+  c.initDepth = InitDepth::Sweep;
   auto swept = createTrainSession(ctx, c, d);
   double fromBox = onScene(box->gaussians), fromSweep = onScene(swept->gaussians);
   // Measured on lavapipe: 0.98 swept (median 0.5 cm from the true top), about 0.27 drawn
@@ -336,11 +336,14 @@ GPU_TEST_CASE("plane sweep: --init-depth sweep draws the first Gaussians onto th
   CHECK(swept->sweptCellFraction > 0.2);
   trainStep(*swept);  // it trains
 
-  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").initDepth == "sweep");
+  CHECK(trainConfigToJson(c)["init_depth"] == "sweep");
+  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").initDepth == InitDepth::Sweep);
   nlohmann::json old = trainConfigToJson(c);
   old.erase("init_depth");
-  CHECK(trainConfigFromJson(old, "test").initDepth == "box");
-  c.initDepth = "sfm";
+  CHECK(trainConfigFromJson(old, "test").initDepth == InitDepth::Box);
+  old["init_depth"] = "sfm";
+  CHECK_THROWS_WITH_AS(trainConfigFromJson(old, "test"), doctest::Contains("init_depth"), Error);
+  c.initDepth = InitDepth(7);  // no name: refused naming the flag, as any value out of range
   CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--init-depth"), Error);
 }
 

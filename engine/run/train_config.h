@@ -25,6 +25,11 @@ WaterModel parseWaterModel(const std::string& name);
 
 // A step count of the schedule: explicit (from the command line) or scaled from the reference.
 // An interval of 0 (explicit only) switches its event off; the SH interval must be >= 1.
+// The choices of the options table's "choice" rows: parsed from their names ("box", "mcmc")
+// once, by the table (engine/run/train_options.cpp), and compared as enums where they are used.
+enum class InitDepth { Box, Sweep };
+enum class DensifyStrategy { Reference3dgs, Mcmc };
+
 struct ScheduleSteps {
   int surfaceFreeze = -1;        // surface (and flat height) frozen before this step; reference 1,000
   int surfaceUntil = 0;          // ... and frozen again after this step (0: learns to the end, the reference)
@@ -57,10 +62,10 @@ struct TrainConfig {
 
   // Gaussians.
   uint32_t initialGaussians = 20000;
-  // Where the initial (and restarted) Gaussians' depths come from: "box", uniform in the box
-  // (the reference), or "sweep", a plane sweep of the training views through the current
-  // water (engine/train/plane_sweep.h).
-  std::string initDepth = "box";
+  // Where the initial (and restarted) Gaussians' depths come from: Box ("box"), uniform in
+  // the box (the reference), or Sweep ("sweep"), a plane sweep of the training views through
+  // the current water (engine/train/plane_sweep.h).
+  InitDepth initDepth = InitDepth::Box;
   // --init-points: the Gaussians start at the dataset's sparse points under the water
   // (COLMAP's, moved to their paraxial true depth; engine/train/init_gaussians.h), the rest
   // as initDepth says.
@@ -133,9 +138,10 @@ struct TrainConfig {
   double densityLossWeight = 0.007;
   bool densify = true;             // clone/split/prune (engine/gaussian/densify.h)
   double densifyGradThreshold = 3e-4;
-  // 3dgs: clone, split, prune and density resets (engine/gaussian/densify.h, the reference);
-  // mcmc: relocation, growth and position noise (engine/gaussian/mcmc.h), at the same steps.
-  std::string densifyStrategy = "3dgs";
+  // Reference3dgs ("3dgs"): clone, split, prune and density resets (engine/gaussian/densify.h,
+  // the reference); Mcmc ("mcmc"): relocation, growth and position noise
+  // (engine/gaussian/mcmc.h), at the same steps.
+  DensifyStrategy densifyStrategy = DensifyStrategy::Reference3dgs;
 
   // Batching: 0 trains on whole images; P > 0 on one random P x P patch of the image per step
   // (SSIM needs an image-shaped batch: a patch keeps its window statistics; about P^2 / (w h)

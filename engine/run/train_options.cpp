@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <utility>
 
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_trace.h"
@@ -136,8 +137,33 @@ TrainOption filePath(const std::string& flag, const std::string& key, const std:
   return o;
 }
 
-TrainOption choice(const std::string& flag, const std::string& key, const std::string& metavar, const std::string& help,
-                   Ref<std::string> ref, std::vector<std::string> choices) {
+// One of named values; the field holds the name's enum. A value with no name (set in code)
+// reads as its number, which set() then refuses naming the flag.
+template <class E>
+TrainOption choice(const std::string& flag, const std::string& key, const std::string& metavar, const std::string& help, Ref<E> ref,
+                   std::vector<std::pair<std::string, E>> names) {
+  TrainOption o = row(flag, key, metavar, help);
+  o.get = [ref, names](const TrainConfig& c) {
+    E e = ref(const_cast<TrainConfig&>(c));
+    for (const auto& [name, value] : names)
+      if (value == e) return json(name);
+    return json(static_cast<long long>(e));
+  };
+  o.set = [ref, names](TrainConfig& c, const json& v, const std::string& name) {
+    std::string list;  // "a, b or c"
+    for (size_t i = 0; i < names.size(); i++) list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i].first;
+    if (!v.is_string()) fail(name + " must be " + list + ", got " + v.dump());
+    for (const auto& [text, value] : names)
+      if (text == v.get<std::string>()) return void(ref(c) = value);
+    fail(name + " must be " + list + ", got " + v.get<std::string>());
+  };
+  o.parse = parseText;
+  return o;
+}
+
+// One of named strings, kept as text (the proxy, which proxyKindFor resolves against the device).
+TrainOption textChoice(const std::string& flag, const std::string& key, const std::string& metavar, const std::string& help,
+                       Ref<std::string> ref, std::vector<std::string> choices) {
   TrainOption o = row(flag, key, metavar, help);
   o.get = [ref](const TrainConfig& c) { return json(ref(const_cast<TrainConfig&>(c))); };
   o.set = [ref, choices](TrainConfig& c, const json& v, const std::string& name) {
@@ -217,7 +243,7 @@ std::vector<TrainOption> makeTable() {
   t.push_back(choice("init-depth", "init_depth", "KIND",
                      "the initial (and restarted) Gaussians' depth: box (uniform in the box, the reference) or sweep (a plane sweep of the "
                      "training views through the current water; docs/training.md)",
-                     field(&TrainConfig::initDepth), {"box", "sweep"}));
+                     field(&TrainConfig::initDepth), {{"box", InitDepth::Box}, {"sweep", InitDepth::Sweep}}));
   t.push_back(switchOption("init-points", "init_points",
                            "the initial (and restarted) Gaussians at the dataset's sparse points under the water (COLMAP's points3D, moved "
                            "down to their true depth through the flat water; points above it dropped), at most --gaussians of them; the "
@@ -242,7 +268,7 @@ std::vector<TrainOption> makeTable() {
   t.push_back(integer<uint32_t>("hit-records", "hit_records", "N",
                                 "hits per ray the forward records so the backward need not re-trace (8 bytes each; 0: re-trace)",
                                 field(&TrainConfig::hitRecordsPerRay), 0, 1024));
-  t.push_back(required(choice("proxy", "proxy", "KIND", "Gaussian proxies: aabb, instanced or auto", field(&TrainConfig::proxy),
+  t.push_back(required(textChoice("proxy", "proxy", "KIND", "Gaussian proxies: aabb, instanced or auto", field(&TrainConfig::proxy),
                               {"aabb", "instanced", "auto"})));
   t.push_back(required(integer<uint32_t>("mlp-width", "mlp_width", "W", "height-field MLP width", field(&TrainConfig::mlpWidth), 1, 256)));
   t.push_back(required(integer<uint32_t>("mlp-layers", "mlp_hidden_layers", "L", "height-field MLP hidden layers",
@@ -359,7 +385,7 @@ std::vector<TrainOption> makeTable() {
                      "3dgs (clone, split, prune, density resets: the reference) or mcmc (3DGS-MCMC: Gaussians under 0.005 density "
                      "relocated onto live ones, the count grown 5% per densification up to --max-gaussians, noise on the nearly "
                      "transparent ones' positions; no prune, no density reset)",
-                     field(&TrainConfig::densifyStrategy), {"3dgs", "mcmc"}));
+                     field(&TrainConfig::densifyStrategy), {{"3dgs", DensifyStrategy::Reference3dgs}, {"mcmc", DensifyStrategy::Mcmc}}));
   t.push_back(step("prune-every", "prune_interval", "prune low-density Gaussians every N steps (densify-from..densify-until)",
                    &ScheduleSteps::pruneInterval, "100"));
   t.push_back(step("prune-large-from", "prune_large_from", "also prune Gaussians larger than 10% of the extent from step N",

@@ -55,7 +55,7 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
   applyModelSizing(c, cams);  // after the domain: the sizing reads what the views see of it
   if (c.gaussiansFixed && c.gaussiansFrom.empty()) fail("--gaussians-fixed needs --gaussians-from PLY: fixed random Gaussians learn nothing");
   if (!c.gaussiansFrom.empty()) {
-    if (c.initPoints || c.initDepth != "box") fail("--gaussians-from replaces the drawn Gaussians: it takes no --init-points or --init-depth");
+    if (c.initPoints || c.initDepth != InitDepth::Box) fail("--gaussians-from replaces the drawn Gaussians: it takes no --init-points or --init-depth");
     const size_t count = readGaussiansPly(c.gaussiansFrom).count();  // refrax::Error naming the file
     if (count == 0) fail("--gaussians-from " + c.gaussiansFrom + " holds no Gaussians");
     c.initialGaussians = uint32_t(count);
@@ -242,7 +242,7 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     detachProfiler(*s.ctx);
     profileStepEnd(s.profiler, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart).count());
     if (r.restarted) {
-      std::string how = c.initDepth == "sweep" ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.sweptCellFraction))) + "% of the cells" : "";
+      std::string how = c.initDepth == InitDepth::Sweep ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.sweptCellFraction))) + "% of the cells" : "";
       if (c.initPoints) how += ", " + std::to_string(s.gaussiansAtPoints) + " at sparse points";
       if (!s.signChecks.empty() && s.signChecks.back().step == s.step) say(signCheckLine(s.signChecks.back()));
       say("step " + std::to_string(s.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");

@@ -168,7 +168,7 @@ void drawGaussians(TrainSession& s) {
   const size_t rest = c.initialGaussians - s.gaussiansAtPoints;
   if (rest == 0) {
     s.gaussians = std::move(atPoints);
-  } else if (c.initDepth == "sweep") {
+  } else if (c.initDepth == InitDepth::Sweep) {
     DepthMap depth = planeSweepDepth(sweepViews(s), boxSweepConfig(c));
     size_t known = 0;
     for (double z : depth.z) known += std::isfinite(z) ? 1 : 0;
@@ -227,7 +227,7 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   dc.decayInterval = uint32_t(std::max(1, k.densityDecayInterval));
   dc.resetDensity = float(config.densityResetValue);
   // MCMC keeps every Gaussian (it relocates the transparent ones), so it resets no density.
-  const bool mcmc = config.densifyStrategy == "mcmc";
+  const bool mcmc = config.densifyStrategy == DensifyStrategy::Mcmc;
   dc.resetFrom = config.densify && !mcmc && k.densityResetInterval > 0 ? 0 : kNever;
   dc.resetUntil = uint32_t(std::max(0, k.densityResetUntil - 1));
   dc.resetInterval = uint32_t(std::max(1, k.densityResetInterval));
@@ -573,7 +573,7 @@ double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
     s.densifyStats[i + 1] += stats[i + 1];      // the count of rays
   }
   tableAdamStep(s.gaussianAdam, s.gaussians.params, grads);
-  if (c.densify && c.densifyStrategy == "mcmc")
+  if (c.densify && c.densifyStrategy == DensifyStrategy::Mcmc)
     mcmcPositionNoise(s.gaussians, s.mcmcConfig, groupLearningRate(s.gaussianAdam, "position"), s.rng);
   applyDensitySchedule(s, t);
   return densityLoss;
@@ -596,7 +596,7 @@ bool mcmcStep(TrainSession& s, int t) {
 bool densifyStep(TrainSession& s, int t) {
   const TrainConfig& c = s.config;
   if (c.gaussiansFixed) return false;
-  if (c.densifyStrategy == "mcmc") return c.densify && c.schedule.densifyInterval > 0 && mcmcStep(s, t);
+  if (c.densifyStrategy == DensifyStrategy::Mcmc) return c.densify && c.schedule.densifyInterval > 0 && mcmcStep(s, t);
   bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
   bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
   if (!cloneSplit && !prune) return false;
