@@ -118,6 +118,23 @@ void drawPanel(const std::string& deviceName, ViewScene& scene, ViewerState& sta
   ImGui::End();
 }
 
+void drawSurfacePanel(const std::string& deviceName, BuiltinSurface& surface, ViewerState& state, const FrameStats& stats) {
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Refrax");
+  ImGui::Text("%s", deviceName.c_str());
+  ImGui::Text("%.1f FPS (%.1f ms)  render %ux%u", stats.fps, stats.frameMs, stats.width, stats.height);
+  const char* kinds[] = {"flat", "sine", "triangle"};
+  int kind = surface.kind == "flat" ? 0 : surface.kind == "sine" ? 1 : 2;
+  if (ImGui::Combo("surface", &kind, kinds, 3)) surface.kind = kinds[kind];
+  ImGui::SliderFloat("amplitude", &surface.amplitude, 0.0f, 0.2f);
+  ImGui::SliderFloat("wavelength", &surface.wavelength, 0.05f, 2.0f);
+  int show = int(state.show) - 1;
+  const char* modes[] = {"normals", "wireframe"};
+  if (ImGui::Combo("show", &show, modes, 2)) state.show = ShowMode(show + 1);
+  if (ImGui::Button("reset view (R)")) state.resetView = true;
+  ImGui::End();
+}
+
 float nextResolutionScale(float scale, double frameMs, float targetMs) {
   if (!(frameMs > 0)) return scale;
   // pixels ~ time: the side scales with the square root, at most 20% per frame

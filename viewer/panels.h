@@ -34,6 +34,8 @@ struct FrameStats {
 };
 
 void drawPanel(const std::string& deviceName, ViewScene& scene, ViewerState& state, FlyCamera& camera, const FrameStats& stats);
+// With nothing loaded: the built-in surface by itself, its shape and how it is shown.
+void drawSurfacePanel(const std::string& deviceName, BuiltinSurface& surface, ViewerState& state, const FrameStats& stats);
 
 // Auto resolution: scales the rendered pixel count towards the target frame time.
 float nextResolutionScale(float scale, double frameMs, float targetMs);
