@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <vector>
 
 #include "engine/dataset/dataset.h"
 #include "engine/base/error.h"
@@ -17,7 +18,7 @@
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
 #include "engine/io/npy.h"
-#include "engine/io/ply_gaussians.h"
+#include "engine/gaussian/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
 #include "engine/model/render_model.h"
 #include "engine/train/train_run.h"
@@ -173,25 +174,50 @@ const char* kStrongWaveJoint = " --mlp-octaves 4 --grid-cells 16 --subdivision 2
                                " --mlp-coarse-octaves 3 --octaves-open-until 10000000 --surface-lr 3e-3 --surface-freeze 400 --anchor-mean-height"
                                " --level-prior 1000 --init-depth sweep --restart-gaussians 1000,1600,2200";
 
+// Three seeds of the joint run and one straight-ray run (its spread is small: 15.71-16.40 dB
+// over the runs below), each gain taken against that one.
+constexpr int kStrongWaveSeeds = 3;
 struct StrongWaveComparison {
   TrainTempDir dir;
-  nlohmann::json refraction, plain;
+  std::vector<nlohmann::json> refraction;  // seeds 1..kStrongWaveSeeds
+  nlohmann::json plain;                    // seed 1
 };
 const StrongWaveComparison& strongWaveComparison() {
   static StrongWaveComparison c = [] {
     StrongWaveComparison t;
     std::string data = test::tinyDataset("nerfrac-primary-sine", kStrongWaveSynth);
-    t.refraction = test::trainAndReadMetrics(data, t.dir / "refraction", std::string(kStrongWaveOptions) + kStrongWaveJoint);
     t.plain = test::trainAndReadMetrics(data, t.dir / "plain", std::string(kStrongWaveOptions) + " --no-refraction");
-    MESSAGE("strong wave: refraction psnr " << t.refraction["psnr"] << " surface rmse " << t.refraction["surface_rmse"] << " (flat "
-                                            << t.refraction["initial_flat_surface_rmse"] << "); no-refraction psnr " << t.plain["psnr"]);
+    for (int seed = 1; seed <= kStrongWaveSeeds; seed++) {
+      std::string run = t.dir / ("refraction-" + std::to_string(seed));
+      t.refraction.push_back(
+          test::trainAndReadMetrics(data, run, std::string(kStrongWaveOptions) + kStrongWaveJoint + " --seed " + std::to_string(seed)));
+      const nlohmann::json& m = t.refraction.back();
+      MESSAGE("strong wave, seed " << seed << ": refraction psnr " << m["psnr"] << " (gain "
+                                   << m["psnr"].get<double>() - t.plain["psnr"].get<double>() << " dB) surface rmse "
+                                   << m["surface_rmse"] << " (flat " << m["initial_flat_surface_rmse"] << ")");
+    }
+    MESSAGE("strong wave: no-refraction psnr " << t.plain["psnr"]);
     return t;
   }();
   return c;
 }
 
+constexpr double kStrongWaveGainBar = 3.0;     // dB over straight rays, the median seed
+constexpr double kStrongWaveSurfaceBar = 0.5;  // of the flat start's surface RMSE, the median seed
+constexpr double kStrongWaveWorstGain = 0.0;   // the worst seed
+constexpr double kStrongWaveWorstSurface = 1.0;
+constexpr double kStrongWavePlainFloor = 15.0;  // dB: straight rays measured 15.71-16.40
+
+double medianOf(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
 // The paper's claim at CI size: refraction beats straight rays by 3 dB and recovers the
-// surface to half the flat plane's error (issue 6's bars). Measured (lavapipe, 64 x 64
+// surface to half the flat plane's error (issue 6's bars), asserted on the median of three
+// seeds, with the worst seed held to never losing to straight rays nor ending further from the
+// truth than the flat start. One run of one seed could not carry the claim: it failed once in
+// about ten (below, +0.70 dB in CI), and a rerun until it passed hid that (issue 47). Measured (lavapipe, 64 x 64
 // patches, against --no-refraction with the same seed and steps):
 //   this test, seed 1: 2026-11-26, three runs: +3.29, +3.98, +3.79 dB (19.69, 20.38, 20.19
 //   against 16.40), surface RMSE 0.0094, 0.0118, 0.0113 (0.28-0.36x the flat plane's);
@@ -226,12 +252,34 @@ const StrongWaveComparison& strongWaveComparison() {
 // refraction arm spread over 18.77-21.20 dB in its ten runs at 4,000 steps with a surface
 // step per step, and one of them (the CI run) missed the gain's bar. The bars are the issue's;
 // the surface's margin is 0.07x under the worst run's.
+// Three seeds (2026-12-02, lavapipe, the arms run by hand as this test runs them): straight
+// rays 16.15 dB; seeds 1, 2, 3 22.09, 21.76, 22.71 dB (+5.94, +5.61, +6.56), surface 0.31x,
+// 0.17x, 0.18x the flat start's; the four arms 1,456 s beside builds.
 TEST_CASE("train: refraction beats straight rays and halves the flat surface error on a tiny NeRFrac-like run" *
           doctest::test_suite("long")) {
   const StrongWaveComparison& c = strongWaveComparison();
-  CHECK(c.refraction["psnr"].get<double>() - c.plain["psnr"].get<double>() >= 3.0);
-  CHECK(c.refraction["surface_rmse"].get<double>() * 2.0 <= c.refraction["initial_flat_surface_rmse"].get<double>());
-  CHECK(c.refraction["missed_rays"].get<uint64_t>() == 0);
+  const double plain = c.plain["psnr"].get<double>();
+  // The straight-ray run's floor: a regression there would widen every gain below.
+  CHECK(plain >= kStrongWavePlainFloor);
+  std::vector<double> gains, surfaceRatios;
+  for (size_t k = 0; k < c.refraction.size(); k++) {
+    const nlohmann::json& m = c.refraction[k];
+    double gain = m["psnr"].get<double>() - plain;
+    double ratio = m["surface_rmse"].get<double>() / m["initial_flat_surface_rmse"].get<double>();
+    gains.push_back(gain), surfaceRatios.push_back(ratio);
+    // Every seed under the median's bars is a failure of the method on that seed, logged even
+    // when the median passes.
+    if (gain < kStrongWaveGainBar || ratio > kStrongWaveSurfaceBar)
+      WARN_MESSAGE(false, "strong wave, seed " << k + 1 << " under the bars: gain " << gain << " dB, surface " << ratio << "x the flat start's");
+    // The worst seed: refraction never loses to straight rays, and its water never ends
+    // further from the truth than the flat start (a surface that ran away).
+    CHECK(gain >= kStrongWaveWorstGain);
+    CHECK(ratio <= kStrongWaveWorstSurface);
+    CHECK(m["missed_rays"].get<uint64_t>() == 0);
+  }
+  // The median of the three seeds: the issue's bars.
+  CHECK(medianOf(gains) >= kStrongWaveGainBar);
+  CHECK(medianOf(surfaceRatios) <= kStrongWaveSurfaceBar);
 }
 
 GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterrupted run ends" * doctest::test_suite("one-backend")) {
