@@ -29,7 +29,7 @@ std::optional<SurfaceDomain> parseDomain(const std::string& text) {
   return d;
 }
 
-// Every flag but the device's (cli::deviceOptions), in --help's order.
+// Every flag but the device's (cli::deviceOptions), in --help's order (a declarative table).
 std::vector<ViewerOptionRow> viewerOptionTable() {
   const ViewerOptions d;
   using Args = cli::Args;

@@ -121,20 +121,9 @@ double quantile(std::vector<double> v, double q) {
   return v[size_t(std::lround(q * double(v.size() - 1)))];
 }
 
-}  // namespace
-
-Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& options) {
-  const std::string model = modelFolder(folder);
-  ColmapModel m = readColmapModel(model);
-  if (m.images.empty()) fail("COLMAP model " + model + " has no registered images");
-  const int factor = options.llffFactor;
-  const std::string imageDir = imageFolder(folder, factor);
-  if (!fs::is_directory(imageDir)) fail("COLMAP dataset " + folder + ": no image folder " + imageDir);
-  Dataset d;
-  d.root = folder;
-  d.format = "colmap";
-
-  // Images registered and on disk; the others counted, not dropped silently.
+// The model's images that are on disk (sorted by name); the missing and the unregistered files
+// counted in d.notes, not dropped silently.
+std::vector<ColmapImage> presentImages(ColmapModel& m, const std::string& imageDir, Dataset& d) {
   std::sort(m.images.begin(), m.images.end(), [](const ColmapImage& a, const ColmapImage& b) { return a.name < b.name; });
   std::set<std::string> registered;
   std::vector<ColmapImage> present;
@@ -151,76 +140,109 @@ Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& optio
     if (e.is_regular_file() && !registered.count(fs::relative(e.path(), imageDir).generic_string())) unregistered++;
   if (missing) d.notes.push_back(std::to_string(missing) + " of the model's " + std::to_string(m.images.size()) + " images are not in " + imageDir + ": left out");
   if (unregistered) d.notes.push_back(std::to_string(unregistered) + " files in " + imageDir + " are not registered in the model: left out");
+  return present;
+}
+
+// The water's frame: up to +Z, the mean camera over the origin, one unit the cameras' median
+// height above the sparse points (the scene). Sets d.normalization; returns the sparse points'
+// heights in that frame before scaling, and the rotation and scale.
+struct ColmapFrame {
+  glm::dmat3 rot{1.0};
+  double scale = 1;
+  std::vector<double> pointZ;
+};
+ColmapFrame waterFrame(const ColmapModel& m, const std::vector<glm::dmat4>& poses, const DatasetOptions& options, Dataset& d) {
+  ColmapFrame f;
+  std::string upHow;
+  const glm::dvec3 up = deriveUp(poses, options, upHow);
+  f.rot = rotationToZ(up);
+  glm::dvec3 centre(0);
+  for (const auto& p : poses) centre += f.rot * glm::dvec3(p[3]);
+  centre /= double(poses.size());
+  std::string scaleHow = "COLMAP's units (no sparse points to scale by)";
+  for (const ColmapPoint& p : m.points) f.pointZ.push_back((f.rot * p.position).z - centre.z);
+  if (f.pointZ.size() >= 10) {
+    double depth = -quantile(f.pointZ, 0.5);
+    if (depth > 0) {
+      f.scale = 1 / depth;
+      scaleHow = "1 = the median depth of the sparse points under the cameras";
+    }
+  }
+  glm::dmat4 normalization(1.0);
+  for (int c = 0; c < 3; c++) normalization[c] = glm::dvec4(f.scale * f.rot[c], 0);
+  normalization[3] = glm::dvec4(-f.scale * centre, 1);
+  d.normalization = normalization;
+  d.notes.push_back("frame: up " + vectorText(up) + " in COLMAP's frame, " + upHow + "; mean camera at the origin; scale " + text(f.scale) +
+                    " (" + scaleHow + ")");
+  return f;
+}
+
+// The water height from the options or water.json, else estimated from the sparse points.
+WaterMetadata colmapWater(const std::string& folder, const DatasetOptions& options, const ColmapFrame& f, Dataset& d) {
+  WaterMetadata water = loadWaterMetadata(folder, options);
+  if (water.height) return water;
+  if (f.pointZ.size() < 10)
+    fail("COLMAP dataset " + folder + ": the water height cannot be estimated from " + std::to_string(f.pointZ.size()) +
+         " sparse points: give --water-height (in the frame `refrax inspect` prints) or water.json's \"height\"");
+  // The dry rim around the water (a pool's edge, a tank's rim) is at or above the water and
+  // is what COLMAP matches best; points seen through the water sit lower. So: a high
+  // quantile of the points' heights, which `refrax inspect` prints to be checked.
+  water.height = quantile(f.pointZ, 0.95) * f.scale;
+  d.notes.push_back("water height " + text(*water.height) + " estimated: the 95th percentile of the sparse points' heights (the dry "
+                    "rim); give --water-height to override");
+  return water;
+}
+
+// One registered image as a view in the water's frame, with its image and mask.
+View colmapView(const std::string& folder, const std::string& model, const ColmapModel& m, const ColmapImage& im, const glm::dmat4& pose,
+                const ColmapFrame& f, const Dataset& d, const DatasetOptions& options) {
+  const int factor = options.llffFactor;
+  const std::string imageDir = imageFolder(folder, factor);
+  const std::string where = model + ": image " + std::to_string(im.id) + " (" + im.name + ")";
+  View v;
+  v.name = fs::path(imageDir).filename().string() + "/" + im.name;
+  intrinsics(m.cameras.at(im.cameraId), factor, v.camera, where);
+  // the rotation turns the camera's axes; the scale moves only its position
+  glm::dmat4 c2w(1.0);
+  for (int c = 0; c < 3; c++) c2w[c] = glm::dvec4(f.rot * glm::dvec3(pose[c]), 0);
+  c2w[3] = d.normalization * pose[3];
+  v.camera.cameraToWorld = c2w;
+  validateCameraToWorld(v.camera.cameraToWorld, where);
+  v.image = loadViewImage(imageDir + "/" + im.name, 0, 0, options.background, where);
+  // images_<N> scaled by 1/N, rounded either way
+  if (std::abs(v.image.width - v.camera.width) > 1 || std::abs(v.image.height - v.camera.height) > 1)
+    fail(where + ": the image is " + std::to_string(v.image.width) + " x " + std::to_string(v.image.height) + ", the camera " +
+         std::to_string(v.camera.width) + " x " + std::to_string(v.camera.height) + (factor > 1 ? " (its size / " + std::to_string(factor) + ")" : ""));
+  v.camera.width = v.image.width, v.camera.height = v.image.height;
+  v.mask = loadViewMask(imageDir + "/" + im.name, maskFolder(folder, factor) + "/" + replaceExtension(im.name, ".png"), v.image.width,
+                        v.image.height, where);
+  return v;
+}
+
+}  // namespace
+
+Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& options) {
+  const std::string model = modelFolder(folder);
+  ColmapModel m = readColmapModel(model);
+  if (m.images.empty()) fail("COLMAP model " + model + " has no registered images");
+  const std::string imageDir = imageFolder(folder, options.llffFactor);
+  if (!fs::is_directory(imageDir)) fail("COLMAP dataset " + folder + ": no image folder " + imageDir);
+  Dataset d;
+  d.root = folder;
+  d.format = "colmap";
+  const std::vector<ColmapImage> present = presentImages(m, imageDir, d);
   if (present.size() < 2) fail("COLMAP dataset " + folder + ": " + std::to_string(present.size()) + " registered images found in " + imageDir + " (at least 2 needed)");
   std::vector<std::string> presentNames;
   for (const ColmapImage& im : present) presentNames.push_back(im.name);
   const std::vector<bool> test = testViewFlags(presentNames, options, "COLMAP dataset " + folder);
 
-  // The water's frame: up to +Z, the mean camera over the origin, one unit the cameras' median
-  // height above the sparse points (the scene), the water height from the options or estimated.
   std::vector<glm::dmat4> poses;
   for (const ColmapImage& im : present) poses.push_back(cameraToWorld(im));
-  std::string upHow;
-  const glm::dvec3 up = deriveUp(poses, options, upHow);
-  const glm::dmat3 rot = rotationToZ(up);
-  glm::dvec3 centre(0);
-  for (const auto& p : poses) centre += rot * glm::dvec3(p[3]);
-  centre /= double(poses.size());
-  double scale = 1;
-  std::string scaleHow = "COLMAP's units (no sparse points to scale by)";
-  std::vector<double> pointZ;
-  for (const ColmapPoint& p : m.points) pointZ.push_back((rot * p.position).z - centre.z);
-  if (pointZ.size() >= 10) {
-    double depth = -quantile(pointZ, 0.5);
-    if (depth > 0) {
-      scale = 1 / depth;
-      scaleHow = "1 = the median depth of the sparse points under the cameras";
-    }
-  }
-  glm::dmat4 normalization(1.0);
-  for (int c = 0; c < 3; c++) normalization[c] = glm::dvec4(scale * rot[c], 0);
-  normalization[3] = glm::dvec4(-scale * centre, 1);
-  d.normalization = normalization;
-  d.notes.push_back("frame: up " + vectorText(up) + " in COLMAP's frame, " + upHow + "; mean camera at the origin; scale " + text(scale) +
-                    " (" + scaleHow + ")");
-
-  WaterMetadata water = loadWaterMetadata(folder, options);
-  if (!water.height) {
-    if (pointZ.size() < 10)
-      fail("COLMAP dataset " + folder + ": the water height cannot be estimated from " + std::to_string(pointZ.size()) +
-           " sparse points: give --water-height (in the frame `refrax inspect` prints) or water.json's \"height\"");
-    // The dry rim around the water (a pool's edge, a tank's rim) is at or above the water and
-    // is what COLMAP matches best; points seen through the water sit lower. So: a high
-    // quantile of the points' heights, which `refrax inspect` prints to be checked.
-    water.height = quantile(pointZ, 0.95) * scale;
-    d.notes.push_back("water height " + text(*water.height) + " estimated: the 95th percentile of the sparse points' heights (the dry "
-                      "rim); give --water-height to override");
-  }
-  d.water = water;
-  for (const ColmapPoint& p : m.points) d.points.push_back({glm::dvec3(normalization * glm::dvec4(p.position, 1)), p.colour});
-
-  for (size_t i = 0; i < present.size(); i++) {
-    const ColmapImage& im = present[i];
-    const std::string where = model + ": image " + std::to_string(im.id) + " (" + im.name + ")";
-    View v;
-    v.name = fs::path(imageDir).filename().string() + "/" + im.name;
-    intrinsics(m.cameras.at(im.cameraId), factor, v.camera, where);
-    // the rotation turns the camera's axes; the scale moves only its position
-    glm::dmat4 c2w(1.0);
-    for (int c = 0; c < 3; c++) c2w[c] = glm::dvec4(rot * glm::dvec3(poses[i][c]), 0);
-    c2w[3] = normalization * poses[i][3];
-    v.camera.cameraToWorld = c2w;
-    validateCameraToWorld(v.camera.cameraToWorld, where);
-    v.image = loadViewImage(imageDir + "/" + im.name, 0, 0, options.background, where);
-    // images_<N> scaled by 1/N, rounded either way
-    if (std::abs(v.image.width - v.camera.width) > 1 || std::abs(v.image.height - v.camera.height) > 1)
-      fail(where + ": the image is " + std::to_string(v.image.width) + " x " + std::to_string(v.image.height) + ", the camera " +
-           std::to_string(v.camera.width) + " x " + std::to_string(v.camera.height) + (factor > 1 ? " (its size / " + std::to_string(factor) + ")" : ""));
-    v.camera.width = v.image.width, v.camera.height = v.image.height;
-    v.mask = loadViewMask(imageDir + "/" + im.name, maskFolder(folder, factor) + "/" + replaceExtension(im.name, ".png"), v.image.width,
-                          v.image.height, where);
-    d.splits[test[i] ? "test" : "train"].push_back(std::move(v));
-  }
+  const ColmapFrame frame = waterFrame(m, poses, options, d);
+  d.water = colmapWater(folder, options, frame, d);
+  for (const ColmapPoint& p : m.points) d.points.push_back({glm::dvec3(d.normalization * glm::dvec4(p.position, 1)), p.colour});
+  for (size_t i = 0; i < present.size(); i++)
+    d.splits[test[i] ? "test" : "train"].push_back(colmapView(folder, model, m, present[i], poses[i], frame, d, options));
   noteMasks(d);
   return d;
 }

@@ -39,22 +39,22 @@ std::map<std::string, uint32_t> propertySlots(uint32_t restPerChannel) {
   return slots;
 }
 
-}  // namespace
+// A PLY header's vertex element: its count and its properties, in file order.
+struct PlyProperty {
+  std::string name;
+  size_t bytes;
+  bool isFloat;
+};
+struct PlyHeader {
+  size_t count = 0;
+  std::vector<PlyProperty> props;
+};
 
-GaussianSet readGaussiansPly(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail("cannot open Gaussian PLY '" + path + "'");
-  const std::string where = "Gaussian PLY '" + path + "'";
+PlyHeader readPlyHeader(std::istream& in, const std::string& where) {
   std::string line;
   if (!std::getline(in, line) || line != "ply") fail(where + " is not a PLY file");
   bool binaryLE = false, inVertex = false, sawEnd = false;
-  size_t count = 0;
-  struct Property {
-    std::string name;
-    size_t bytes;
-    bool isFloat;
-  };
-  std::vector<Property> props;
+  PlyHeader h;
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream ls(line);
@@ -69,7 +69,7 @@ GaussianSet readGaussiansPly(const std::string& path) {
       std::string name;
       ls >> name;
       if (name == "vertex") {
-        if (!(ls >> count)) fail(where + ": bad vertex count");
+        if (!(ls >> h.count)) fail(where + ": bad vertex count");
         inVertex = true;
       } else {
         long n = 0;
@@ -85,7 +85,7 @@ GaussianSet readGaussiansPly(const std::string& path) {
       if (!inVertex) continue;
       size_t bytes = scalarBytes(type);
       if (bytes == 0) fail(where + ": unknown property type '" + type + "'");
-      props.push_back({name, bytes, type == "float" || type == "float32"});
+      h.props.push_back({name, bytes, type == "float" || type == "float32"});
     } else if (word == "end_header") {
       sawEnd = true;
       break;
@@ -93,7 +93,19 @@ GaussianSet readGaussiansPly(const std::string& path) {
   }
   if (!sawEnd) fail(where + ": header has no end_header");
   if (!binaryLE) fail(where + ": header has no binary_little_endian format line");
-  if (count == 0) fail(where + " holds no Gaussians");
+  if (h.count == 0) fail(where + " holds no Gaussians");
+  return h;
+}
+
+}  // namespace
+
+GaussianSet readGaussiansPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("cannot open Gaussian PLY '" + path + "'");
+  const std::string where = "Gaussian PLY '" + path + "'";
+  const PlyHeader header = readPlyHeader(in, where);
+  const std::vector<PlyProperty>& props = header.props;
+  const size_t count = header.count;
 
   size_t restCount = 0;
   for (auto& p : props) restCount += p.name.rfind("f_rest_", 0) == 0;

@@ -121,6 +121,74 @@ GpuRay toGpuRay(const MeshRayRef& r) {
   return g;
 }
 
+namespace {
+
+// The GPU's hit against the reference's acceptable hits: the best match within the
+// tolerances (the lowest combined error), or none.
+struct GpuHitMatch {
+  bool matched = false, excused = false, widened = false;
+  double point = 0, dir = 0, tmax = 0;  // the match's errors
+  dvec3 p{0}, w{0};                     // the GPU's refracted origin and direction
+};
+GpuHitMatch matchGpuHit(const SurfaceMesh& mesh, const std::vector<float>& unitNormals, const GpuRay& ray, const GpuRay& g, uint32_t flags,
+                        const MeshRayRef& r, const MeshRefractOptions& opt, double pointTol, double dirTol, double facingEps) {
+  dvec3 p(g.origin[0], g.origin[1], g.origin[2]), w(g.dir[0], g.dir[1], g.dir[2]);
+  dvec3 o(ray.origin[0], ray.origin[1], ray.origin[2]), d = glm::normalize(dvec3(ray.dir[0], ray.dir[1], ray.dir[2]));
+  double tg = glm::dot(p - o, d);  // the GPU's hit distance
+  double offRay = glm::length(p - (o + tg * d)) / std::max(std::fabs(tg), 1.0);
+  GpuHitMatch best;
+  best.p = p, best.w = w;
+  double bestScore = std::numeric_limits<double>::infinity();
+  for (const MeshHitRef& h : r.acceptable) {
+    // The reference at the GPU's point: its barycentrics on h's triangle (orthogonal projection).
+    dvec3 P[3];
+    for (int c = 0; c < 3; c++) P[c] = at(mesh.positions, mesh.indices[3 * h.triangle + c]);
+    dvec3 face = glm::cross(P[1] - P[0], P[2] - P[0]), nf = glm::normalize(face);
+    double s = std::fabs(glm::dot(nf, d));
+    dvec3 onPlane = p - glm::dot(p - P[0], nf) * nf, tuv;
+    f64::rayTrianglePlane(onPlane + nf, -nf, P[0], P[1], P[2], 0.0, tuv);
+    dvec3 N[3];
+    for (int c = 0; c < 3; c++) N[c] = at(unitNormals, mesh.indices[3 * h.triangle + c]);
+    dvec3 n, wRef;
+    bool backFacing;
+    f64::meshHitRefract(d, tuv.y, tuv.z, N[0], N[1], N[2], face, 1.0 / opt.ior, n, wRef, backFacing);
+    double facing = glm::dot(f64::meshHitNormal(tuv.y, tuv.z, N[0], N[1], N[2], face), d);
+    double ep = std::fabs(tg - h.t) * std::max(s, 1e-12) / std::max(h.t, 1.0);  // |dt| relative to its conditioning
+    double refTmax = std::max(r.rayTmax - tg, 0.0);
+    double et = std::fabs(double(g.tmax) - refTmax) / std::max(refTmax, 1.0);
+    // A ray nearly in the triangle's plane (s small) gets its barycentrics, and so its
+    // interpolated normal, from a determinant proportional to s: in float they are good to
+    // about eps |o - P0| / (s L) (L the triangle's size, o the origin the test runs from), and
+    // the direction to that times how fast the normals turn across the triangle. With the
+    // tests' meshes (|o - P0| up to ~0.3 from the box entry, L ~ 0.1, normals turning ~0.5
+    // across a triangle) that is about 1e-7 / s: dirTol (1e-5) down to s = 0.01 (0.6
+    // degrees), widening as 0.01 / s below it. The widening stops at s = kGrazingS, where the
+    // tolerance has reached 100 dirTol (1e-3): below it no float tracer's direction is good
+    // to any bound that would still catch an error, so such hits are excused from the
+    // direction and facing comparison (their point and range still are compared) and
+    // counted (MeshRefractReport::excused), for a caller to bound their share. So are hits
+    // whose interpolated normal is within facingEps of the ray's plane (the flip is a float
+    // decision there). Seen: s = 9e-4, |dw| 1.2e-5 on the compute backend's walk (seed 4092548225).
+    const bool grazing = std::fabs(facing) < facingEps || s < kGrazingS;
+    double ew = grazing ? 0.0 : glm::length(w - wRef);
+    bool flagOk = grazing || ((flags & kSurfaceBackFacing) != 0) == backFacing;
+    const double wTol = dirTol * std::max(1.0, 0.01 / std::max(s, kGrazingS));
+    if (offRay <= pointTol && ep <= pointTol && et <= pointTol && ew <= wTol && flagOk) {
+      double score = ep / pointTol + ew / wTol;
+      if (score < bestScore) {
+        bestScore = score;
+        best.point = std::max(ep, offRay), best.dir = ew, best.tmax = et;
+        best.excused = grazing;
+        best.widened = ew > dirTol;
+        best.matched = true;
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 MeshRefractReport compareMeshRefraction(const SurfaceMesh& mesh, const std::vector<float>& unitNormals, const std::vector<GpuRay>& rays,
                                         const std::vector<GpuRay>& gpuRefracted, const std::vector<uint32_t>& gpuFlags,
                                         const MeshRefractOptions& opt, double pointTol, double dirTol, double facingEps) {
@@ -162,58 +230,10 @@ MeshRefractReport compareMeshRefraction(const SurfaceMesh& mesh, const std::vect
       problem(i, "a refracted ray with tmin " + std::to_string(g.tmin));
       continue;
     }
-    dvec3 p(g.origin[0], g.origin[1], g.origin[2]), w(g.dir[0], g.dir[1], g.dir[2]);
-    dvec3 o(rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]), d = glm::normalize(dvec3(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2]));
-    double tg = glm::dot(p - o, d);  // the GPU's hit distance
-    double offRay = glm::length(p - (o + tg * d)) / std::max(std::fabs(tg), 1.0);
-    bool matched = false, bestExcused = false, bestWidened = false;
-    double bestP = 0, bestW = 0, bestT = 0, bestScore = std::numeric_limits<double>::infinity();
-    for (const MeshHitRef& h : r.acceptable) {
-      // The reference at the GPU's point: its barycentrics on h's triangle (orthogonal projection).
-      dvec3 P[3];
-      for (int c = 0; c < 3; c++) P[c] = at(mesh.positions, mesh.indices[3 * h.triangle + c]);
-      dvec3 face = glm::cross(P[1] - P[0], P[2] - P[0]), nf = glm::normalize(face);
-      double s = std::fabs(glm::dot(nf, d));
-      dvec3 onPlane = p - glm::dot(p - P[0], nf) * nf, tuv;
-      f64::rayTrianglePlane(onPlane + nf, -nf, P[0], P[1], P[2], 0.0, tuv);
-      dvec3 N[3];
-      for (int c = 0; c < 3; c++) N[c] = at(unitNormals, mesh.indices[3 * h.triangle + c]);
-      dvec3 n, wRef;
-      bool backFacing;
-      f64::meshHitRefract(d, tuv.y, tuv.z, N[0], N[1], N[2], face, 1.0 / opt.ior, n, wRef, backFacing);
-      double facing = glm::dot(f64::meshHitNormal(tuv.y, tuv.z, N[0], N[1], N[2], face), d);
-      double ep = std::fabs(tg - h.t) * std::max(s, 1e-12) / std::max(h.t, 1.0);  // |dt| relative to its conditioning
-      double refTmax = std::max(r.rayTmax - tg, 0.0);
-      double et = std::fabs(double(g.tmax) - refTmax) / std::max(refTmax, 1.0);
-      // A ray nearly in the triangle's plane (s small) gets its barycentrics, and so its
-      // interpolated normal, from a determinant proportional to s: in float they are good to
-      // about eps |o - P0| / (s L) (L the triangle's size, o the origin the test runs from), and
-      // the direction to that times how fast the normals turn across the triangle. With the
-      // tests' meshes (|o - P0| up to ~0.3 from the box entry, L ~ 0.1, normals turning ~0.5
-      // across a triangle) that is about 1e-7 / s: dirTol (1e-5) down to s = 0.01 (0.6
-      // degrees), widening as 0.01 / s below it. The widening stops at s = kGrazingS, where the
-      // tolerance has reached 100 dirTol (1e-3): below it no float tracer's direction is good
-      // to any bound that would still catch an error, so such hits are excused from the
-      // direction and facing comparison (their point and range still are compared) and
-      // counted (MeshRefractReport::excused), for a caller to bound their share. So are hits
-      // whose interpolated normal is within facingEps of the ray's plane (the flip is a float
-      // decision there). Seen: s = 9e-4, |dw| 1.2e-5 on the compute backend's walk (seed 4092548225).
-      const bool grazing = std::fabs(facing) < facingEps || s < kGrazingS;
-      double ew = grazing ? 0.0 : glm::length(w - wRef);
-      bool flagOk = grazing || ((flags & kSurfaceBackFacing) != 0) == backFacing;
-      const double wTol = dirTol * std::max(1.0, 0.01 / std::max(s, kGrazingS));
-      if (offRay <= pointTol && ep <= pointTol && et <= pointTol && ew <= wTol && flagOk) {
-        double score = ep / pointTol + ew / wTol;
-        if (score < bestScore) {
-          bestScore = score;
-          bestP = std::max(ep, offRay), bestW = ew, bestT = et;
-          bestExcused = grazing;
-          bestWidened = ew > dirTol;
-          matched = true;
-        }
-      }
-    }
-    if (!matched) {
+    const GpuHitMatch m = matchGpuHit(mesh, unitNormals, rays[i], g, flags, r, opt, pointTol, dirTol, facingEps);
+    const dvec3& p = m.p;
+    const dvec3& w = m.w;
+    if (!m.matched) {
       std::string what = "GPU hit matches none of " + std::to_string(r.acceptable.size()) + " acceptable hits";
       if (!r.acceptable.empty()) {
         const MeshHitRef& h = r.acceptable.front();
@@ -224,11 +244,11 @@ MeshRefractReport compareMeshRefraction(const SurfaceMesh& mesh, const std::vect
       problem(i, what);
       continue;
     }
-    rep.excused += bestExcused;
-    rep.widened += bestWidened;
-    rep.worstPoint = std::max(rep.worstPoint, bestP);
-    rep.worstDir = std::max(rep.worstDir, bestW);
-    rep.worstTmax = std::max(rep.worstTmax, bestT);
+    rep.excused += m.excused;
+    rep.widened += m.widened;
+    rep.worstPoint = std::max(rep.worstPoint, m.point);
+    rep.worstDir = std::max(rep.worstDir, m.dir);
+    rep.worstTmax = std::max(rep.worstTmax, m.tmax);
   }
   return rep;
 }

@@ -216,6 +216,7 @@ TrainOption modelSwitch(const std::string& flag, const std::string& help, WaterM
   return o;
 }
 
+// Every refrax train flag, one row each (a declarative table: long by design, one row per option).
 std::vector<TrainOption> makeTable() {
   const double inf = INFINITY;
   std::vector<TrainOption> t;

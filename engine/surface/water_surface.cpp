@@ -198,6 +198,139 @@ void cmdUpdateSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& 
   ws.updated = true;
 }
 
+namespace {
+
+// One traceSurface call: what its submissions share (the rays, the push constants, the
+// timer when timings are asked for).
+struct SurfaceTracePass {
+  Context& ctx;
+  WaterSurface& ws;
+  const HeightSource& heights;
+  const Buffer& rays;
+  Buffer& records;
+  SurfacePush pc;
+  uint32_t groups = 0;
+  std::unique_ptr<GpuTimer> timer;
+  SurfaceTimings* timings = nullptr;
+};
+
+// Records into one submission (waited for), the timer started first; its stages added to timings.
+void submitPass(SurfaceTracePass& t, const std::function<void(VkCommandBuffer)>& record) {
+  submitAndWait(t.ctx, [&](VkCommandBuffer cb) {
+    if (t.timer) cmdTimerStart(cb, *t.timer);
+    record(cb);
+  });
+  if (t.timer)
+    for (auto& [stage, ms] : readTimer(*t.timer)) (*t.timings)[stage] += ms;
+}
+
+void stampPass(SurfaceTracePass& t, VkCommandBuffer cb, const std::string& stage) {
+  if (t.timer) cmdTimerStamp(cb, *t.timer, stage);
+  profileStage(cb, t.ctx, "water trace: " + stage);
+}
+
+// Queues the lattice points the rays' level `level` needs (mode 1: the normals' points).
+void requestPoints(SurfaceTracePass& t, VkCommandBuffer cb, int level, uint32_t mode) {
+  SurfacePush q = t.pc;
+  q.level = level;
+  q.mode = mode;
+  cmdDispatch(cb, t.ws.pipelines.requestPoints, {bind(t.records), bind(t.ws.latticeIndex), bind(t.ws.points), bind(t.ws.counters)}, &q,
+              t.groups);
+  cmdBarrier(cb);
+}
+
+// H at the points queued since `base` (they end at `end`), into pointHeights[base, end).
+void evaluateNewPoints(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t base, uint32_t end) {
+  WaterSurface& ws = t.ws;
+  uint32_t n = end - base;
+  if (n == 0) return;
+  if (base == 0) {
+    t.heights.evaluate(cb, ws.points, n, ws.pointHeights);
+    cmdBarrier(cb);
+    return;
+  }
+  VkBufferCopy c{VkDeviceSize(base) * 8, 0, VkDeviceSize(n) * 8};
+  vkCmdCopyBuffer(cb, ws.points.buffer, ws.evalPoints.buffer, 1, &c);
+  cmdBarrier(cb);
+  t.heights.evaluate(cb, ws.evalPoints, n, ws.evalHeights);
+  cmdBarrier(cb);
+  VkBufferCopy h{0, VkDeviceSize(base) * 4, VkDeviceSize(n) * 4};
+  vkCmdCopyBuffer(cb, ws.evalHeights.buffer, ws.pointHeights.buffer, 1, &h);
+  cmdBarrier(cb);
+}
+
+uint32_t readPointCount(SurfaceTracePass& t) {
+  uint32_t n = 0;
+  download(t.ctx, t.ws.counters, &n, 4);
+  if (n > t.ws.pointCapacity) fail("water surface: lattice point table overflow (" + std::to_string(n) + " points)");
+  return n;
+}
+
+// The global trace against the coarse mesh, then the midpoints level 1 needs.
+void recordGlobalTrace(SurfaceTracePass& t, VkCommandBuffer cb, bool emptyCache, const SurfaceTraceHooks& hooks) {
+  WaterSurface& ws = t.ws;
+  const SurfacePipelines& p = ws.pipelines;
+  if (hooks.before) {
+    hooks.before(cb);
+    cmdBarrier(cb);
+  }
+  if (emptyCache) cmdClearPointCache(cb, ws);
+  vkCmdFillBuffer(cb, ws.counters.buffer, 4, VK_WHOLE_SIZE, 0);  // this trace's counts; 0 is the cache's
+  cmdBarrier(cb);
+  stampPass(t, cb, "clear");
+  if (ws.heightRange)
+    cmdDispatch(cb, p.globalTrace, {bind(ws.vertices), bind(t.rays), bind(ws.cellOrder), bind(t.records), bind(ws.counters), bind(ws.heightRange)},
+                &t.pc, t.groups);
+  else
+    cmdDispatch(cb, p.globalTrace, {bind(ws.top.tlas), bind(t.rays), bind(ws.cellOrder), bind(t.records), bind(ws.counters)}, &t.pc, t.groups);
+  cmdBarrier(cb);
+  stampPass(t, cb, "global trace");
+  if (ws.config.subdivisionLevels > 0) {
+    requestPoints(t, cb, 1, 0);
+    stampPass(t, cb, "level 1 points");
+  }
+}
+
+// Level k of the subdivision: the heights of its new points, the test against its triangles,
+// and the points the next level (or, at the last, the normals) needs.
+void recordSubdivisionLevel(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t k, uint32_t evaluated, uint32_t queued) {
+  WaterSurface& ws = t.ws;
+  const std::string level = "level " + std::to_string(k);
+  evaluateNewPoints(t, cb, evaluated, queued);
+  stampPass(t, cb, level + " heights");
+  SurfacePush q = t.pc;
+  q.level = int32_t(k);
+  cmdDispatch(cb, ws.pipelines.subdivide,
+              {bind(t.rays), bind(t.records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights), bind(ws.counters)}, &q,
+              t.groups);
+  cmdBarrier(cb);
+  stampPass(t, cb, level + " test");
+  if (k < ws.config.subdivisionLevels) {
+    requestPoints(t, cb, int(k) + 1, 0);
+    stampPass(t, cb, "level " + std::to_string(k + 1) + " points");
+  } else {
+    requestPoints(t, cb, int(k), 1);
+    stampPass(t, cb, "normal points");
+  }
+}
+
+// The normals' heights and the refraction at each hit.
+void recordRefraction(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t evaluated, uint32_t queued, Buffer& refractedRays,
+                      const SurfaceTraceHooks& hooks) {
+  WaterSurface& ws = t.ws;
+  evaluateNewPoints(t, cb, evaluated, queued);
+  stampPass(t, cb, "normal heights");
+  cmdDispatch(cb, ws.pipelines.refract,
+              {bind(t.rays), bind(t.records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights), bind(refractedRays),
+               bind(ws.hitNormals), bind(ws.counters)},
+              &t.pc, t.groups);
+  cmdBarrier(cb);
+  stampPass(t, cb, "refract");
+  if (hooks.after) hooks.after(cb);
+}
+
+}  // namespace
+
 void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, uint32_t count,
                   Buffer& refractedRays, Buffer& records, SurfaceTimings* timings, const SurfaceTraceHooks& hooks) {
   if (!ws.updated) fail("traceSurface before cmdUpdateSurface: the surface has no heights yet");
@@ -222,122 +355,25 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
   checkBuffer(refractedRays, VkDeviceSize(count) * sizeof(GpuRay), "refracted rays");
   checkBuffer(records, VkDeviceSize(count) * sizeof(SurfaceRecord), "records");
 
-  const uint32_t K = ws.config.subdivisionLevels;
-  const SurfacePipelines& p = ws.pipelines;
-  SurfacePush pc = basePush(ws);
-  pc.count = count;
-  const uint32_t groups = groupsFor(count, 64);
-
-  std::unique_ptr<GpuTimer> timer;
+  SurfaceTracePass t{ctx, ws, heights, rays, records, basePush(ws)};
+  t.pc.count = count;
+  t.groups = groupsFor(count, 64);
   if (timings) {
     timings->clear();
-    timer = std::make_unique<GpuTimer>();
-    createTimer(ctx, *timer, 16);
+    t.timings = timings;
+    t.timer = std::make_unique<GpuTimer>();
+    createTimer(ctx, *t.timer, 16);
   }
-  auto submit = [&](const std::function<void(VkCommandBuffer)>& record) {
-    submitAndWait(ctx, [&](VkCommandBuffer cb) {
-      if (timer) cmdTimerStart(cb, *timer);
-      record(cb);
-    });
-    if (timer)
-      for (auto& [stage, ms] : readTimer(*timer)) (*timings)[stage] += ms;
-  };
-  auto stamp = [&](VkCommandBuffer cb, const std::string& stage) {
-    if (timer) cmdTimerStamp(cb, *timer, stage);
-    profileStage(cb, ctx, "water trace: " + stage);
-  };
-  auto request = [&](VkCommandBuffer cb, int level, uint32_t mode) {
-    SurfacePush q = pc;
-    q.level = level;
-    q.mode = mode;
-    cmdDispatch(cb, p.requestPoints, {bind(records), bind(ws.latticeIndex), bind(ws.points), bind(ws.counters)}, &q,
-                groups);
-    cmdBarrier(cb);
-  };
-  // H at the points queued since `base` (they end at `end`), into pointHeights[base, end).
-  auto evaluateNew = [&](VkCommandBuffer cb, uint32_t base, uint32_t end) {
-    uint32_t n = end - base;
-    if (n == 0) return;
-    if (base == 0) {
-      heights.evaluate(cb, ws.points, n, ws.pointHeights);
-      cmdBarrier(cb);
-      return;
-    }
-    VkBufferCopy c{VkDeviceSize(base) * 8, 0, VkDeviceSize(n) * 8};
-    vkCmdCopyBuffer(cb, ws.points.buffer, ws.evalPoints.buffer, 1, &c);
-    cmdBarrier(cb);
-    heights.evaluate(cb, ws.evalPoints, n, ws.evalHeights);
-    cmdBarrier(cb);
-    VkBufferCopy h{0, VkDeviceSize(base) * 4, VkDeviceSize(n) * 4};
-    vkCmdCopyBuffer(cb, ws.evalHeights.buffer, ws.pointHeights.buffer, 1, &h);
-    cmdBarrier(cb);
-  };
-  auto readPointCount = [&]() {
-    uint32_t n = 0;
-    download(ctx, ws.counters, &n, 4);
-    if (n > ws.pointCapacity) fail("water surface: lattice point table overflow (" + std::to_string(n) + " points)");
-    return n;
-  };
-
-  // Global trace, then the midpoints level 1 needs.
-  submit([&](VkCommandBuffer cb) {
-    if (hooks.before) {
-      hooks.before(cb);
-      cmdBarrier(cb);
-    }
-    if (emptyCache) cmdClearPointCache(cb, ws);
-    vkCmdFillBuffer(cb, ws.counters.buffer, 4, VK_WHOLE_SIZE, 0);  // this trace's counts; 0 is the cache's
-    cmdBarrier(cb);
-    stamp(cb, "clear");
-    if (ws.heightRange)
-      cmdDispatch(cb, p.globalTrace, {bind(ws.vertices), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters), bind(ws.heightRange)},
-                  &pc, groups);
-    else
-      cmdDispatch(cb, p.globalTrace, {bind(ws.top.tlas), bind(rays), bind(ws.cellOrder), bind(records), bind(ws.counters)}, &pc, groups);
-    cmdBarrier(cb);
-    stamp(cb, "global trace");
-    if (K > 0) {
-      request(cb, 1, 0);
-      stamp(cb, "level 1 points");
-    }
-  });
+  const uint32_t K = ws.config.subdivisionLevels;
+  submitPass(t, [&](VkCommandBuffer cb) { recordGlobalTrace(t, cb, emptyCache, hooks); });
   uint32_t evaluated = ws.cachedPoints;
   for (uint32_t k = 1; k <= K; k++) {
-    uint32_t queued = readPointCount();
-    std::string level = "level " + std::to_string(k);
-    submit([&](VkCommandBuffer cb) {
-      evaluateNew(cb, evaluated, queued);
-      stamp(cb, level + " heights");
-      SurfacePush q = pc;
-      q.level = int32_t(k);
-      cmdDispatch(cb, p.subdivide,
-                  {bind(rays), bind(records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights),
-                   bind(ws.counters)},
-                  &q, groups);
-      cmdBarrier(cb);
-      stamp(cb, level + " test");
-      if (k < K) {
-        request(cb, int(k) + 1, 0);
-        stamp(cb, "level " + std::to_string(k + 1) + " points");
-      } else {
-        request(cb, int(k), 1);
-        stamp(cb, "normal points");
-      }
-    });
+    uint32_t queued = readPointCount(t);
+    submitPass(t, [&](VkCommandBuffer cb) { recordSubdivisionLevel(t, cb, k, evaluated, queued); });
     evaluated = queued;
   }
-  uint32_t queued = K > 0 ? readPointCount() : 0;
-  submit([&](VkCommandBuffer cb) {
-    evaluateNew(cb, evaluated, queued);
-    stamp(cb, "normal heights");
-    cmdDispatch(cb, p.refract,
-                {bind(rays), bind(records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights),
-                 bind(refractedRays), bind(ws.hitNormals), bind(ws.counters)},
-                &pc, groups);
-    cmdBarrier(cb);
-    stamp(cb, "refract");
-    if (hooks.after) hooks.after(cb);
-  });
+  uint32_t queued = K > 0 ? readPointCount(t) : 0;
+  submitPass(t, [&](VkCommandBuffer cb) { recordRefraction(t, cb, evaluated, queued, refractedRays, hooks); });
   ws.lastCounters = readSurfaceCounters(ctx, ws);
   ws.cachedPoints = ws.lastCounters.points;
 }

@@ -195,10 +195,16 @@ std::vector<double> llffPoseRow(const SynthCamera& cam, double nearDepth, double
   return row;
 }
 
-void writeSynthDataset(const SynthPreset& p, const std::string& dir, const SynthWriteOptions& o) {
-  for (const char* sub : {"train", "test", "test_air", "air", "masks"}) fs::create_directories(fs::path(dir) / sub);
-  if (p.writeLlff) fs::create_directories(fs::path(dir) / "images");
+namespace {
 
+// What rendering the views measured, per split: the depth range each view saw and the share of
+// its samples that missed the water's domain.
+struct RenderedSplits {
+  std::map<std::string, std::vector<double>> nearDepth, farDepth, missFraction;
+};
+
+// Renders every view of every split (through the water, or dry) into DIR/<split>/ and the masks.
+RenderedSplits renderSplits(const SynthPreset& p, const std::string& dir, const SynthWriteOptions& o) {
   std::vector<RenderJob> jobs;
   for (size_t i = 0; i < p.train.size(); i++) jobs.push_back({"train", &p.train[i], i, !o.dry});
   for (size_t i = 0; i < p.test.size(); i++) jobs.push_back({"test", &p.test[i], i, !o.dry});
@@ -209,8 +215,7 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
   settings.samplesPerAxis = p.samplesPerAxis;
   settings.seed = o.seed;
   settings.threads = o.threads;
-  std::map<std::string, std::vector<double>> nearDepth, farDepth;
-  std::map<std::string, std::vector<double>> missFraction;
+  RenderedSplits out;
   auto start = std::chrono::steady_clock::now();
   for (size_t k = 0; k < jobs.size(); k++) {
     if (o.cancel && o.cancel->load()) fail("synth: interrupted; nothing was written to the output folder");
@@ -221,10 +226,10 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
     writePng((fs::path(dir) / job.split / (stem + ".png")).string(), toImage(v.width, v.height, 3, v.rgb));
     if (job.water) {
       writePng((fs::path(dir) / "masks" / (job.split + "_" + stem + ".png")).string(), toImage(v.width, v.height, 1, v.mask));
-      missFraction[job.split].push_back(double(v.samplesMissingWater) / (double(v.width) * v.height * p.samplesPerAxis * p.samplesPerAxis));
+      out.missFraction[job.split].push_back(double(v.samplesMissingWater) / (double(v.width) * v.height * p.samplesPerAxis * p.samplesPerAxis));
     }
-    nearDepth[job.split].push_back(v.nearDepth);
-    farDepth[job.split].push_back(v.farDepth);
+    out.nearDepth[job.split].push_back(v.nearDepth);
+    out.farDepth[job.split].push_back(v.farDepth);
     if (o.progress) {
       double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       double eta = elapsed / double(k + 1) * double(jobs.size() - k - 1);
@@ -235,7 +240,11 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
     }
   }
 
-  // Blender-format splits.
+  return out;
+}
+
+// The Blender-format splits, transforms_{train,test,air}.json.
+void writeBlenderSplits(const SynthPreset& p, const std::string& dir, const SynthWriteOptions& o) {
   auto writeSplit = [&](const std::string& file, const std::string& split, const std::vector<SynthCamera>& cams, bool masks,
                         const std::string& airSplit) {
     nlohmann::json j;
@@ -258,7 +267,10 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
   writeSplit("transforms_test.json", "test", p.test, !o.dry, "test_air");
   writeSplit("transforms_air.json", "air", p.air, false, "");
 
-  // Ground truth surface.
+}
+
+// The true surface (height map, glTF) and water.json, which describes the dataset.
+void writeWaterTruth(const SynthPreset& p, const std::string& dir, const SynthWriteOptions& o, const RenderedSplits& r) {
   NpyArray hm = heightMap(p.water, p.heightMapSize);
   writeNpy((fs::path(dir) / "water_gt_height.npy").string(), hm);
   writeSurfaceGltf((fs::path(dir) / "water_gt.gltf").string(), p.water, p.meshGridSize);
@@ -308,34 +320,46 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
   }
   water["samples_per_pixel"] = p.samplesPerAxis * p.samplesPerAxis;
   nlohmann::json miss;
-  for (const auto& [split, v] : missFraction) miss[split] = v;
+  for (const auto& [split, v] : r.missFraction) miss[split] = v;
   water["fraction_of_samples_missing_water"] = miss;
   writeJson((fs::path(dir) / "water.json").string(), water);
 
-  // NeRFrac's LLFF layout: images/000.png is the held-out centre view, then the training views.
-  if (p.writeLlff) {
-    std::vector<const SynthCamera*> cams;
-    std::vector<std::pair<std::string, size_t>> sources;
-    for (size_t i = 0; i < p.test.size(); i++) {
-      cams.push_back(&p.test[i]);
-      sources.push_back({"test", i});
-    }
-    for (size_t i = 0; i < p.train.size(); i++) {
-      cams.push_back(&p.train[i]);
-      sources.push_back({"train", i});
-    }
-    NpyArray poses;
-    poses.shape = {cams.size(), 17};
-    for (size_t i = 0; i < cams.size(); i++) {
-      const auto& [split, idx] = sources[i];
-      double nearD = nearDepth[split][idx] * 0.9, farD = farDepth[split][idx] * 1.1;
-      auto row = llffPoseRow(*cams[i], nearD, farD);
-      poses.data.insert(poses.data.end(), row.begin(), row.end());
-      std::string bytes = readFile((fs::path(dir) / split / (indexName(idx) + ".png")).string());
-      writeFileAtomic((fs::path(dir) / "images" / (indexName(i) + ".png")).string(), bytes.data(), bytes.size());
-    }
-    writeNpy((fs::path(dir) / "poses_bounds.npy").string(), poses, true);
+}
+
+// NeRFrac's LLFF layout: images/000.png is the held-out centre view, then the training views.
+void writeLlffLayout(const SynthPreset& p, const std::string& dir, const RenderedSplits& r) {
+  std::vector<const SynthCamera*> cams;
+  std::vector<std::pair<std::string, size_t>> sources;
+  for (size_t i = 0; i < p.test.size(); i++) {
+    cams.push_back(&p.test[i]);
+    sources.push_back({"test", i});
   }
+  for (size_t i = 0; i < p.train.size(); i++) {
+    cams.push_back(&p.train[i]);
+    sources.push_back({"train", i});
+  }
+  NpyArray poses;
+  poses.shape = {cams.size(), 17};
+  for (size_t i = 0; i < cams.size(); i++) {
+    const auto& [split, idx] = sources[i];
+    double nearD = r.nearDepth.at(split)[idx] * 0.9, farD = r.farDepth.at(split)[idx] * 1.1;
+    auto row = llffPoseRow(*cams[i], nearD, farD);
+    poses.data.insert(poses.data.end(), row.begin(), row.end());
+    std::string bytes = readFile((fs::path(dir) / split / (indexName(idx) + ".png")).string());
+    writeFileAtomic((fs::path(dir) / "images" / (indexName(i) + ".png")).string(), bytes.data(), bytes.size());
+  }
+  writeNpy((fs::path(dir) / "poses_bounds.npy").string(), poses, true);
+}
+
+}  // namespace
+
+void writeSynthDataset(const SynthPreset& p, const std::string& dir, const SynthWriteOptions& o) {
+  for (const char* sub : {"train", "test", "test_air", "air", "masks"}) fs::create_directories(fs::path(dir) / sub);
+  if (p.writeLlff) fs::create_directories(fs::path(dir) / "images");
+  const RenderedSplits rendered = renderSplits(p, dir, o);
+  writeBlenderSplits(p, dir, o);
+  writeWaterTruth(p, dir, o, rendered);
+  if (p.writeLlff) writeLlffLayout(p, dir, rendered);
 }
 
 void checkSynthOutputDir(const std::string& outDir) {

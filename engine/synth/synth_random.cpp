@@ -270,26 +270,10 @@ RandomSceneParams drawRandomScene(uint64_t seed) {
   fail("synth random: no scene of seed " + std::to_string(seed) + " fits under its water in 64 draws");
 }
 
-SynthPreset buildRandomScene(const RandomSceneParams& rp, SynthSize size, const std::string& textureDir) {
-  const bool tiny = size == SynthSize::Tiny;
-  SynthPreset p;
-  p.name = "random";
-  p.ior = rp.ior;
-  p.samplesPerAxis = 2;
-  p.heightMapSize = tiny ? 64 : 512;
-  p.meshGridSize = tiny ? 33 : 257;
+namespace {
 
-  // Cameras at the drawn size, or capped for --size tiny (the field of view and aspect kept).
-  int width = rp.width, height = rp.height;
-  if (tiny && width > R::kTinyWidth) {
-    height = std::max(1, int(std::lround(double(height) * R::kTinyWidth / width)));
-    width = R::kTinyWidth;
-  }
-  placeCameras(rp, width, height, p.train, p.test);
-  p.air = p.test;  // the water-removal views are the test cameras, as in the top-down presets
-
-  // Water.
-  WaveSurface& w = p.water;
+// The drawn waves as the water's sines and ripples; returns the surface's description.
+std::string randomWater(const RandomSceneParams& rp, WaveSurface& w) {
   w.meanHeight = 0;
   w.domain[0] = w.domain[1] = -rp.domainHalf;
   w.domain[2] = w.domain[3] = rp.domainHalf;
@@ -307,15 +291,15 @@ SynthPreset buildRandomScene(const RandomSceneParams& rp, SynthSize size, const 
   char what[160];
   std::snprintf(what, sizeof what, "%d directional sine%s and %d radial ripple%s drawn at random (seed %llu), slope bound %.3f", sines,
                 sines == 1 ? "" : "s", ripples, ripples == 1 ? "" : "s", (unsigned long long)rp.seed, rp.slopeBound);
-  p.surfaceDescription = what;
+  return what;
+}
 
-  // Floor: the relief as one mesh with continuous UVs and smooth normals over the domain,
-  // a flat floor around and under it (just below the relief's lowest point, so no gap shows).
-  MaterialSet mats{p.scene, textureDir, {}};
+// The floor: the relief as one mesh with continuous UVs and smooth normals over the domain,
+// a flat floor around and under it (just below the relief's lowest point, so no gap shows).
+void addRandomFloor(const RandomSceneParams& rp, bool tiny, MaterialSet& mats, SceneBuilder& b) {
   const auto& stems = randomSceneTextures();
   const glm::dvec3 floorTint(rp.floorTint[0], rp.floorTint[1], rp.floorTint[2]);
   const int floorMat = mats.get(stems[rp.floorTexture], {rp.floorRepeats, rp.floorRepeats}, floorTint);
-  SceneBuilder b;
   const double L = rp.domainHalf, outer = L + 4;
   const double outerRepeats = rp.floorRepeats * outer / L;
   b.floorRect(-outer, -outer, outer, outer, -rp.floorDepth - rp.reliefAmplitude - 0.005,
@@ -348,7 +332,11 @@ SynthPreset buildRandomScene(const RandomSceneParams& rp, SynthSize size, const 
       }
     }
 
-  // Objects, standing in the relief (their bases below its lowest point).
+}
+
+// The objects, standing in the relief (their bases below its lowest point).
+void addRandomObjects(const RandomSceneParams& rp, bool tiny, MaterialSet& mats, SceneBuilder& b) {
+  const auto& stems = randomSceneTextures();
   const int seg = tiny ? 12 : 32;
   const double base = -rp.floorDepth - rp.reliefAmplitude;
   for (const auto& o : rp.objects) {
@@ -362,8 +350,36 @@ SynthPreset buildRandomScene(const RandomSceneParams& rp, SynthSize size, const 
       case RandomObjectKind::Cylinder: b.cylinder({o.x, o.y, base}, o.size, o.top - base, mat, seg, cap); break;
     }
   }
+}
+
+}  // namespace
+
+SynthPreset buildRandomScene(const RandomSceneParams& rp, SynthSize size, const std::string& textureDir) {
+  const bool tiny = size == SynthSize::Tiny;
+  SynthPreset p;
+  p.name = "random";
+  p.ior = rp.ior;
+  p.samplesPerAxis = 2;
+  p.heightMapSize = tiny ? 64 : 512;
+  p.meshGridSize = tiny ? 33 : 257;
+
+  // Cameras at the drawn size, or capped for --size tiny (the field of view and aspect kept).
+  int width = rp.width, height = rp.height;
+  if (tiny && width > R::kTinyWidth) {
+    height = std::max(1, int(std::lround(double(height) * R::kTinyWidth / width)));
+    width = R::kTinyWidth;
+  }
+  placeCameras(rp, width, height, p.train, p.test);
+  p.air = p.test;  // the water-removal views are the test cameras, as in the top-down presets
+
+  p.surfaceDescription = randomWater(rp, p.water);
+  MaterialSet mats{p.scene, textureDir, {}};
+  SceneBuilder b;
+  addRandomFloor(rp, tiny, mats, b);
+  addRandomObjects(rp, tiny, mats, b);
   p.scene.bvh = buildTriangleBvh(std::move(b.triangles));
 
+  char what[64];
   std::snprintf(what, sizeof what, "random scene (seed %llu): ", (unsigned long long)rp.seed);
   p.description = what + randomSceneSummary(rp);
   checkSceneBelowWater(p);  // the draw made sure (randomSceneProblem); this is the presets' rule

@@ -222,20 +222,11 @@ std::vector<DeviceCaps> listDevices() {
   return out;
 }
 
-std::unique_ptr<Context> createContext(const ContextOptions& options) {
-  auto ctx = std::make_unique<Context>();
-  ctx->validation = options.validation || envFlag("REFRAX_VALIDATION");
-  ctx->instance = createInstance(ctx->validation, ctx.get(), &ctx->messenger, options.extraInstanceExtensions);
+namespace {
 
-  uint32_t n = 0;
-  vkEnumeratePhysicalDevices(ctx->instance, &n, nullptr);
-  std::vector<VkPhysicalDevice> pds(n);
-  vkEnumeratePhysicalDevices(ctx->instance, &n, pds.data());
-  if (n == 0) fail("no Vulkan device found; install a driver (on Debian: mesa-vulkan-drivers from bookworm-backports)");
-  std::vector<DeviceCaps> all;
-  for (uint32_t i = 0; i < n; i++) all.push_back(queryCaps(pds[i], i));
-
-  std::string want = options.device;
+// --device NAME|INDEX (or REFRAX_DEVICE), else the device most able: one with ray queries
+// before one without, then by kind. Returns its index in `all`.
+int chooseDevice(const std::vector<DeviceCaps>& all, std::string want) {
   if (want.empty() && std::getenv("REFRAX_DEVICE")) want = std::getenv("REFRAX_DEVICE");
   int chosen = -1;
   if (!want.empty()) {
@@ -248,33 +239,133 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
     if (chosen < 0) fail("no Vulkan device matches '" + want + "'; devices seen:" + describeAll(all));
     if (!all[chosen].qualifies())
       fail("device '" + all[chosen].name + "' cannot run Refrax; devices seen:" + describeAll(all));
-  } else {
-    // The device most able: one with ray queries before one without, then by kind.
-    auto rank = [](const DeviceCaps& c) { return (c.canRun(TraceBackend::RayQuery) ? 10 : 0) + typeRank(c.type); };
-    for (auto& c : all)
-      if (c.qualifies() && (chosen < 0 || rank(c) > rank(all[chosen]))) chosen = int(c.index);
-    if (chosen < 0)
-      fail("no Vulkan device offers what Refrax needs (Vulkan 1.2 compute with buffer device addresses and push "
-           "descriptors); devices seen:" + describeAll(all) +
-           "\n  (on a CPU, install mesa-vulkan-drivers >= 24 from bookworm-backports for lavapipe)");
+    return chosen;
   }
-  ctx->physical = pds[chosen];
-  ctx->caps = all[chosen];
-  std::string trace = options.trace;
+  auto rank = [](const DeviceCaps& c) { return (c.canRun(TraceBackend::RayQuery) ? 10 : 0) + typeRank(c.type); };
+  for (auto& c : all)
+    if (c.qualifies() && (chosen < 0 || rank(c) > rank(all[chosen]))) chosen = int(c.index);
+  if (chosen < 0)
+    fail("no Vulkan device offers what Refrax needs (Vulkan 1.2 compute with buffer device addresses and push "
+         "descriptors); devices seen:" + describeAll(all) +
+         "\n  (on a CPU, install mesa-vulkan-drivers >= 24 from bookworm-backports for lavapipe)");
+  return chosen;
+}
+
+// --trace (or REFRAX_TRACE): rayquery, compute or auto (ray queries where the device has them).
+TraceBackend chooseTrace(const DeviceCaps& caps, std::string trace) {
   if (trace.empty() && std::getenv("REFRAX_TRACE")) trace = std::getenv("REFRAX_TRACE");
   if (trace.empty()) trace = "auto";
-  if (trace == "auto") {
-    ctx->trace = ctx->caps.canRun(TraceBackend::RayQuery) ? TraceBackend::RayQuery : TraceBackend::Compute;
-  } else if (trace == "rayquery" || trace == "compute") {
-    ctx->trace = trace == "rayquery" ? TraceBackend::RayQuery : TraceBackend::Compute;
-    if (!ctx->caps.canRun(ctx->trace)) {
-      std::string lacks;
-      for (const std::string& m : ctx->caps.missing(ctx->trace)) lacks += (lacks.empty() ? "" : ", ") + m;
-      fail("device '" + ctx->caps.name + "' cannot run the " + trace + " trace backend (it lacks " + lacks + "); --trace compute or auto runs on it");
-    }
-  } else {
+  if (trace == "auto") return caps.canRun(TraceBackend::RayQuery) ? TraceBackend::RayQuery : TraceBackend::Compute;
+  if (trace != "rayquery" && trace != "compute")
     fail("the trace backend must be rayquery, compute or auto (--trace or REFRAX_TRACE), not '" + trace + "'");
+  TraceBackend backend = trace == "rayquery" ? TraceBackend::RayQuery : TraceBackend::Compute;
+  if (!caps.canRun(backend)) {
+    std::string lacks;
+    for (const std::string& m : caps.missing(backend)) lacks += (lacks.empty() ? "" : ", ") + m;
+    fail("device '" + caps.name + "' cannot run the " + trace + " trace backend (it lacks " + lacks + "); --trace compute or auto runs on it");
   }
+  return backend;
+}
+
+// A compute queue family, preferring one that also does graphics (the viewer presents from
+// it); a family without timestamps switches the device's timestamps off.
+void chooseQueueFamily(Context& ctx) {
+  uint32_t nq = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(ctx.physical, &nq, nullptr);
+  std::vector<VkQueueFamilyProperties> families(nq);
+  vkGetPhysicalDeviceQueueFamilyProperties(ctx.physical, &nq, families.data());
+  int family = -1;
+  for (uint32_t i = 0; i < nq; i++)
+    if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+      if (family < 0 || (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT)) family = int(i);
+      if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) break;
+    }
+  if (family < 0) fail("device '" + ctx.caps.name + "' has no compute queue");
+  ctx.queueFamily = uint32_t(family);
+  if (!families[family].timestampValidBits) ctx.caps.timestamps = false;
+}
+
+// The logical device with the extensions and features the chosen trace backend uses, and its queue.
+void createDevice(Context& ctx, const std::vector<const char*>& extraExtensions) {
+  // The acceleration-structure extensions only for the ray-query backend: the compute backend
+  // runs as on a device without them (and validation reports any use of them).
+  const bool rayQueries = ctx.trace == TraceBackend::RayQuery;
+  const bool floatAtomics = ctx.caps.floatAtomicAdd || ctx.caps.sharedFloatAtomicAdd;
+  std::vector<const char*> exts = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  if (rayQueries)
+    for (const char* e : {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME, VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME})
+      exts.push_back(e);
+  if (floatAtomics) exts.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+  for (const char* extra : extraExtensions) exts.push_back(extra);
+
+  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT af{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+  af.shaderBufferFloat32Atomics = ctx.caps.floatAtomicAdd;
+  af.shaderBufferFloat32AtomicAdd = ctx.caps.floatAtomicAdd;
+  af.shaderSharedFloat32Atomics = ctx.caps.sharedFloatAtomicAdd;
+  af.shaderSharedFloat32AtomicAdd = ctx.caps.sharedFloatAtomicAdd;
+  VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  rq.rayQuery = VK_TRUE;
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rq};
+  as.accelerationStructure = VK_TRUE;
+  if (floatAtomics) rq.pNext = &af;
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &as};
+  if (!rayQueries) v12.pNext = floatAtomics ? static_cast<void*>(&af) : nullptr;
+  v12.bufferDeviceAddress = VK_TRUE;
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
+  f2.features.shaderInt64 = VK_FALSE;
+  f2.features.shaderFloat64 = VK_FALSE;
+
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  qci.queueFamilyIndex = ctx.queueFamily;
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f2};
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  dci.enabledExtensionCount = uint32_t(exts.size());
+  dci.ppEnabledExtensionNames = exts.data();
+  REFRAX_VK(vkCreateDevice(ctx.physical, &dci, nullptr, &ctx.device));
+  // Device functions stay the loader's (volkLoadInstance loaded them through vkGetInstanceProcAddr),
+  // which dispatch on the device handle: volkLoadDevice would bind every later call to this
+  // device's driver entries, and a second context (another device, or the other trace
+  // backend without the acceleration-structure extension) would call through the wrong ones.
+  vkGetDeviceQueue(ctx.device, ctx.queueFamily, 0, &ctx.queue);
+}
+
+// The context's own command pool, command buffer and fence (submitAndWait).
+void createCommandObjects(Context& ctx) {
+  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pci.queueFamilyIndex = ctx.queueFamily;
+  REFRAX_VK(vkCreateCommandPool(ctx.device, &pci, nullptr, &ctx.commandPool));
+  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cai.commandPool = ctx.commandPool;
+  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cai.commandBufferCount = 1;
+  REFRAX_VK(vkAllocateCommandBuffers(ctx.device, &cai, &ctx.commandBuffer));
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  REFRAX_VK(vkCreateFence(ctx.device, &fci, nullptr, &ctx.fence));
+}
+
+}  // namespace
+
+std::unique_ptr<Context> createContext(const ContextOptions& options) {
+  auto ctx = std::make_unique<Context>();
+  ctx->validation = options.validation || envFlag("REFRAX_VALIDATION");
+  ctx->instance = createInstance(ctx->validation, ctx.get(), &ctx->messenger, options.extraInstanceExtensions);
+
+  uint32_t n = 0;
+  vkEnumeratePhysicalDevices(ctx->instance, &n, nullptr);
+  std::vector<VkPhysicalDevice> pds(n);
+  vkEnumeratePhysicalDevices(ctx->instance, &n, pds.data());
+  if (n == 0) fail("no Vulkan device found; install a driver (on Debian: mesa-vulkan-drivers from bookworm-backports)");
+  std::vector<DeviceCaps> all;
+  for (uint32_t i = 0; i < n; i++) all.push_back(queryCaps(pds[i], i));
+  int chosen = chooseDevice(all, options.device);
+  ctx->physical = pds[chosen];
+  ctx->caps = all[chosen];
+  ctx->trace = chooseTrace(ctx->caps, options.trace);
 
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   ctx->accelProperties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
@@ -283,77 +374,9 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
   ctx->properties = props.properties;
   vkGetPhysicalDeviceMemoryProperties(ctx->physical, &ctx->memory);
 
-  uint32_t nq = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &nq, nullptr);
-  std::vector<VkQueueFamilyProperties> families(nq);
-  vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &nq, families.data());
-  int family = -1;
-  for (uint32_t i = 0; i < nq; i++)
-    if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
-      // prefer a family that also does graphics (the viewer presents from it)
-      if (family < 0 || (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT)) family = int(i);
-      if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) break;
-    }
-  if (family < 0) fail("device '" + ctx->caps.name + "' has no compute queue");
-  ctx->queueFamily = uint32_t(family);
-  if (!families[family].timestampValidBits) ctx->caps.timestamps = false;
-
-  // The acceleration-structure extensions only for the ray-query backend: the compute backend
-  // runs as on a device without them (and validation reports any use of them).
-  const bool rayQueries = ctx->trace == TraceBackend::RayQuery;
-  std::vector<const char*> exts = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
-  if (rayQueries)
-    for (const char* e : {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME, VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME})
-      exts.push_back(e);
-  if (ctx->caps.floatAtomicAdd || ctx->caps.sharedFloatAtomicAdd) exts.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
-  for (const char* extra : options.extraDeviceExtensions) exts.push_back(extra);
-
-  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT af{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
-  af.shaderBufferFloat32Atomics = ctx->caps.floatAtomicAdd;
-  af.shaderBufferFloat32AtomicAdd = ctx->caps.floatAtomicAdd;
-  af.shaderSharedFloat32Atomics = ctx->caps.sharedFloatAtomicAdd;
-  af.shaderSharedFloat32AtomicAdd = ctx->caps.sharedFloatAtomicAdd;
-  VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  rq.rayQuery = VK_TRUE;
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rq};
-  as.accelerationStructure = VK_TRUE;
-  if (ctx->caps.floatAtomicAdd || ctx->caps.sharedFloatAtomicAdd) rq.pNext = &af;
-  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &as};
-  if (!rayQueries) v12.pNext = (ctx->caps.floatAtomicAdd || ctx->caps.sharedFloatAtomicAdd) ? static_cast<void*>(&af) : nullptr;
-  v12.bufferDeviceAddress = VK_TRUE;
-  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
-  f2.features.shaderInt64 = VK_FALSE;
-  f2.features.shaderFloat64 = VK_FALSE;
-
-  float priority = 1.0f;
-  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qci.queueFamilyIndex = ctx->queueFamily;
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
-  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f2};
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
-  dci.enabledExtensionCount = uint32_t(exts.size());
-  dci.ppEnabledExtensionNames = exts.data();
-  REFRAX_VK(vkCreateDevice(ctx->physical, &dci, nullptr, &ctx->device));
-  // Device functions stay the loader's (volkLoadInstance loaded them through vkGetInstanceProcAddr),
-  // which dispatch on the device handle: volkLoadDevice would bind every later call to this
-  // device's driver entries, and a second context (another device, or the other trace
-  // backend without the acceleration-structure extension) would call through the wrong ones.
-  vkGetDeviceQueue(ctx->device, ctx->queueFamily, 0, &ctx->queue);
-
-  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  pci.queueFamilyIndex = ctx->queueFamily;
-  REFRAX_VK(vkCreateCommandPool(ctx->device, &pci, nullptr, &ctx->commandPool));
-  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  cai.commandPool = ctx->commandPool;
-  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cai.commandBufferCount = 1;
-  REFRAX_VK(vkAllocateCommandBuffers(ctx->device, &cai, &ctx->commandBuffer));
-  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  REFRAX_VK(vkCreateFence(ctx->device, &fci, nullptr, &ctx->fence));
-
+  chooseQueueFamily(*ctx);
+  createDevice(*ctx, options.extraDeviceExtensions);
+  createCommandObjects(*ctx);
   if (options.verbose)
     std::fprintf(stderr, "refrax: device [%u] %s (%s), %s trace%s\n", ctx->caps.index, ctx->caps.name.c_str(), ctx->caps.driver.c_str(),
                  traceBackendName(ctx->trace), ctx->validation ? ", validation on" : "");

@@ -84,6 +84,94 @@ double traceMs(Context& ctx, int runs, const std::function<void(VkCommandBuffer)
   return bench::medianMs(1, runs, [&] { submitAndWait(ctx, record); });
 }
 
+// The surface: 200x200 cells, the probe's sine wave, Morton-ordered cells. Traced: built for
+// tracing only, as the probe builds it. Refit: a twin allowing updates, timed separately (an
+// updatable BVH may trace slower).
+struct SurfaceScene {
+  Buffer vertices, indices;
+  AccelStruct blas, traceBlas;
+  TopLevel top, traceTop;
+  double buildMs = 0, refitMs = 0;
+};
+SurfaceScene buildSurfaceScene(Context& ctx, int runs, bool traceUpdatable) {
+  SurfaceScene s;
+  GridMesh mesh = makeGridMesh(200, 200, -1, -1, 1, 1, [](float x, float y) {
+    return 0.04f * std::sin(7.f * x + 1.f) * std::cos(5.f * y) + 0.015f * std::sin(13.f * x + 9.f * y);
+  });
+  s.vertices = createBufferFrom(ctx, mesh.vertices, kAccelInput);
+  s.indices = createBufferFrom(ctx, mesh.indices, kAccelInput);
+  s.blas = createTriangleBlas(ctx, s.vertices, mesh.vertexCount(), 12, s.indices, mesh.triangleCount(), {true});
+  s.top = createTopLevel(ctx, {makeInstance(s.blas, 0, nullptr, VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR)}, {true});
+  s.traceBlas = createTriangleBlas(ctx, s.vertices, mesh.vertexCount(), 12, s.indices, mesh.triangleCount(), {traceUpdatable});
+  s.traceTop =
+      createTopLevel(ctx, {makeInstance(s.traceBlas, 0, nullptr, VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR)}, {traceUpdatable});
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdBuild(cb, s.traceBlas);
+    cmdBarrier(cb);
+    cmdBuild(cb, s.traceTop.tlas);
+  });
+  s.buildMs = traceMs(ctx, runs, [&](VkCommandBuffer cb) {
+    cmdBuild(cb, s.blas);
+    cmdBarrier(cb);
+    cmdBuild(cb, s.top.tlas);
+  });
+  s.refitMs = traceMs(ctx, runs, [&](VkCommandBuffer cb) {
+    cmdRefit(cb, s.blas);
+    cmdBarrier(cb);
+    cmdRefit(cb, s.top.tlas);
+  });
+  return s;
+}
+
+// Boxes: the probe's Gaussians, median-split order, visiting every candidate.
+struct BoxScene {
+  int n;
+  Buffer gaussians, boxes;
+  AccelStruct blas;
+  TopLevel top;
+};
+BoxScene buildBoxScene(Context& ctx, int n) {
+  std::vector<BenchGaussian> gs;
+  std::vector<Box> boxes;
+  probeGaussians(n, gs, boxes);
+  auto order = medianSplitOrder(boxes);
+  BoxScene s{n};
+  s.gaussians = createBufferFrom(ctx, permuted(gs, order));
+  s.boxes = createBufferFrom(ctx, permuted(boxes, order), kAccelInput);
+  s.blas = createAabbBlas(ctx, s.boxes, uint32_t(n));
+  s.top = createTopLevel(ctx, {makeInstance(s.blas, 0, nullptr, VK_GEOMETRY_INSTANCE_FORCE_NO_OPAQUE_BIT_KHR)});
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdBuild(cb, s.blas);
+    cmdBarrier(cb);
+    cmdBuild(cb, s.top.tlas);
+  });
+  return s;
+}
+
+struct RaysRow {
+  std::string name, probeKey;
+  double mrays;
+};
+// The table beside the probe's rates; true when every scene is at >= 0.9x the probe's.
+bool reportRays(const std::vector<RaysRow>& rows, const std::map<std::string, double>& probeBest, nlohmann::json& report) {
+  std::printf("%-48s %12s %12s %8s\n", "scene", "refrax Mr/s", "probe Mr/s", "ratio");
+  bool meets = true;
+  for (auto& r : rows) {
+    nlohmann::json row = {{"scene", r.name}, {"refrax_mrays", r.mrays}};
+    if (probeBest.count(r.probeKey)) {
+      double p = probeBest.at(r.probeKey), ratio = r.mrays / p;
+      meets &= ratio >= 0.9;
+      std::printf("%-48s %12.3f %12.3f %7.2fx\n", r.name.c_str(), r.mrays, p, ratio);
+      row["probe_mrays"] = p;
+      row["ratio"] = ratio;
+    } else {
+      std::printf("%-48s %12.3f %12s %8s\n", r.name.c_str(), r.mrays, "-", "-");
+    }
+    report["scenes"].push_back(row);
+  }
+  return meets;
+}
+
 int runBenchRays(const cli::Args& args) {
   auto ctx = cli::openContext(args);
   const int runs = int(args.getInt("runs", 5));
@@ -94,68 +182,17 @@ int runBenchRays(const cli::Args& args) {
   std::printf("device: %s (%s)\n%u x %u rays, median of %d runs after 1 warm-up\n\n", ctx->caps.name.c_str(), ctx->caps.driver.c_str(),
               size, size, runs);
 
-  // --- the surface: 200x200 cells, the probe's sine wave, Morton-ordered cells
-  GridMesh mesh = makeGridMesh(200, 200, -1, -1, 1, 1, [](float x, float y) {
-    return 0.04f * std::sin(7.f * x + 1.f) * std::cos(5.f * y) + 0.015f * std::sin(13.f * x + 9.f * y);
-  });
-  Buffer vb = createBufferFrom(*ctx, mesh.vertices, kAccelInput), ib = createBufferFrom(*ctx, mesh.indices, kAccelInput);
-  // Traced: built for tracing only, as the probe builds it. Refit: a twin allowing updates,
-  // timed separately (an updatable BVH may trace slower).
-  bool traceUpdatable = args.has("trace-updatable");
-  AccelStruct blas = createTriangleBlas(*ctx, vb, mesh.vertexCount(), 12, ib, mesh.triangleCount(), {true});
-  TopLevel top = createTopLevel(*ctx, {makeInstance(blas, 0, nullptr, VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR)}, {true});
-  AccelStruct traceBlas = createTriangleBlas(*ctx, vb, mesh.vertexCount(), 12, ib, mesh.triangleCount(), {traceUpdatable});
-  TopLevel traceTop =
-      createTopLevel(*ctx, {makeInstance(traceBlas, 0, nullptr, VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR)}, {traceUpdatable});
-  submitAndWait(*ctx, [&](VkCommandBuffer cb) {
-    cmdBuild(cb, traceBlas);
-    cmdBarrier(cb);
-    cmdBuild(cb, traceTop.tlas);
-  });
-  double buildMs = traceMs(*ctx, runs, [&](VkCommandBuffer cb) {
-    cmdBuild(cb, blas);
-    cmdBarrier(cb);
-    cmdBuild(cb, top.tlas);
-  });
-  double refitMs = traceMs(*ctx, runs, [&](VkCommandBuffer cb) {
-    cmdRefit(cb, blas);
-    cmdBarrier(cb);
-    cmdRefit(cb, top.tlas);
-  });
+  SurfaceScene surface = buildSurfaceScene(*ctx, runs, args.has("trace-updatable"));
   ComputePipeline triPipe = createComputePipeline(*ctx, "bench_camera_triangles", {kAccelStruct, kStorageBuffer}, sizeof(Camera));
   Buffer out = createBuffer(*ctx, size_t(rays) * 16);
   Camera triCam = lookAt({0.f, -1.5f, 1.1f}, {0.f, 0.f, -0.3f}, 0.30f, size, size);
   auto traceSurface = [&] {
     return traceMs(*ctx, runs, [&](VkCommandBuffer cb) {
-      cmdDispatch(cb, triPipe, {bind(traceTop.tlas), bind(out)}, &triCam, groupsFor(size, 8), groupsFor(size, 8));
+      cmdDispatch(cb, triPipe, {bind(surface.traceTop.tlas), bind(out)}, &triCam, groupsFor(size, 8), groupsFor(size, 8));
     });
-  };
-
-  // --- boxes: the probe's Gaussians, median-split order, visiting every candidate
-  struct BoxScene {
-    int n;
-    Buffer gaussians, boxes;
-    AccelStruct blas;
-    TopLevel top;
   };
   std::vector<BoxScene> boxScenes;
-  for (int n : {10000, 100000}) {
-    std::vector<BenchGaussian> gs;
-    std::vector<Box> boxes;
-    probeGaussians(n, gs, boxes);
-    auto order = medianSplitOrder(boxes);
-    BoxScene s{n};
-    s.gaussians = createBufferFrom(*ctx, permuted(gs, order));
-    s.boxes = createBufferFrom(*ctx, permuted(boxes, order), kAccelInput);
-    s.blas = createAabbBlas(*ctx, s.boxes, uint32_t(n));
-    s.top = createTopLevel(*ctx, {makeInstance(s.blas, 0, nullptr, VK_GEOMETRY_INSTANCE_FORCE_NO_OPAQUE_BIT_KHR)});
-    submitAndWait(*ctx, [&](VkCommandBuffer cb) {
-      cmdBuild(cb, s.blas);
-      cmdBarrier(cb);
-      cmdBuild(cb, s.top.tlas);
-    });
-    boxScenes.push_back(std::move(s));
-  }
+  for (int n : {10000, 100000}) boxScenes.push_back(buildBoxScene(*ctx, n));
   struct BoxPush {
     Camera cam;
     float thresholds[4];
@@ -184,32 +221,14 @@ int runBenchRays(const cli::Args& args) {
     }
   }
 
-  struct Row {
-    std::string name, probeKey;
-    double mrays;
-  };
-  std::vector<Row> rows = {{"surface 201x201 grid (80k tris), closest hit", "tri_morton_trace_PREFER_FAST_TRACE_Mrays", rays / (surfaceMs * 1e3)},
-                           {"10k Gaussian boxes, all candidates", "aabb10000s_all_PREFER_FAST_TRACE_Mrays", rays / (boxMs[0] * 1e3)},
-                           {"100k Gaussian boxes, all candidates", "aabb100000s_all_PREFER_FAST_TRACE_Mrays", rays / (boxMs[1] * 1e3)}};
-  std::printf("%-48s %12s %12s %8s\n", "scene", "refrax Mr/s", "probe Mr/s", "ratio");
-  bool meets = true;
-  for (auto& r : rows) {
-    nlohmann::json row = {{"scene", r.name}, {"refrax_mrays", r.mrays}};
-    if (probeBest.count(r.probeKey)) {
-      double p = probeBest[r.probeKey], ratio = r.mrays / p;
-      meets &= ratio >= 0.9;
-      std::printf("%-48s %12.3f %12.3f %7.2fx\n", r.name.c_str(), r.mrays, p, ratio);
-      row["probe_mrays"] = p;
-      row["ratio"] = ratio;
-    } else {
-      std::printf("%-48s %12.3f %12s %8s\n", r.name.c_str(), r.mrays, "-", "-");
-    }
-    report["scenes"].push_back(row);
-  }
-  std::printf("\nsurface BLAS+TLAS build %.2f ms, refit %.2f ms (%s)\n", buildMs, refitMs,
-              refitMs < buildMs ? "refit is cheaper" : "refit costs as much as a build on this driver");
-  report["surface_build_ms"] = buildMs;
-  report["surface_refit_ms"] = refitMs;
+  std::vector<RaysRow> rows = {{"surface 201x201 grid (80k tris), closest hit", "tri_morton_trace_PREFER_FAST_TRACE_Mrays", rays / (surfaceMs * 1e3)},
+                               {"10k Gaussian boxes, all candidates", "aabb10000s_all_PREFER_FAST_TRACE_Mrays", rays / (boxMs[0] * 1e3)},
+                               {"100k Gaussian boxes, all candidates", "aabb100000s_all_PREFER_FAST_TRACE_Mrays", rays / (boxMs[1] * 1e3)}};
+  bool meets = reportRays(rows, probeBest, report);
+  std::printf("\nsurface BLAS+TLAS build %.2f ms, refit %.2f ms (%s)\n", surface.buildMs, surface.refitMs,
+              surface.refitMs < surface.buildMs ? "refit is cheaper" : "refit costs as much as a build on this driver");
+  report["surface_build_ms"] = surface.buildMs;
+  report["surface_refit_ms"] = surface.refitMs;
   if (!probe.empty()) std::printf("%s\n", meets ? "every scene at >= 0.9x the probe's rate" : "some scene below 0.9x the probe's rate");
   if (args.has("out")) writeJson(args.get("out"), report);
   return 0;

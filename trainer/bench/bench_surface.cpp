@@ -62,6 +62,136 @@ struct Row {
   double errMedian = 0, errP99 = 0, errMax = 0;
 };
 
+// What every setting's runs share: the camera rays, their outputs and made-up ray gradients.
+struct SurfaceBenchRays {
+  uint32_t count = 0;
+  Buffer rays, refracted, records, grads;
+  RayTracePipelines rt;
+  bool rawTrace = false;  // the raw triangle ray-query rate (not on the compute backend: no triangle BLAS)
+};
+
+// The stage times of one surface, median over `runs` after a warm-up, into row.stageMs.
+void timeSurfaceStages(Context& ctx, WaterSurface& ws, const HeightField& hf, const Buffer& dW, SurfaceBenchRays& b, int runs, Row& row) {
+  GpuTimer timer;
+  createTimer(ctx, timer, 16);
+  std::map<std::string, std::vector<double>> samples;
+  std::vector<double> wall;
+  for (int run = 0; run < std::max(runs, 0) + 1; run++) {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cmdTimerStart(cb, timer);
+      HeightSource hs = heightSource(hf);
+      hs.evaluate(cb, ws.gridPoints, ws.gridPointCount, ws.gridHeights);
+      cmdBarrier(cb);
+      cmdTimerStamp(cb, timer, "update: grid heights");
+      // the whole update as training runs it (grid heights again, vertices, refit), timed as one:
+      // the vertices and refit alone as a difference of the two stamps came out negative on a GPU,
+      // where each is a fraction of a millisecond and the second grid evaluation runs warm
+      cmdUpdateSurface(cb, ws, hs);
+      cmdTimerStamp(cb, timer, "update: whole");
+    });
+    auto upd = readTimer(timer);
+    SurfaceTimings t;
+    auto t0 = std::chrono::steady_clock::now();
+    traceSurface(ctx, ws, hf, b.rays, b.count, b.refracted, b.records, &t);
+    double w = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cmdTimerStart(cb, timer);
+      cmdBackwardSurface(cb, ws, heightSource(hf), b.rays, b.records, b.grads, b.count);  // to dL/dz only
+      cmdTimerStamp(cb, timer, "backward dz");
+      cmdBackwardSurface(cb, ws, hf, b.rays, b.records, b.grads, b.count, dW);
+      cmdTimerStamp(cb, timer, "backward dz + MLP");
+    });
+    auto bwd = readTimer(timer);
+    // raw ray-query rate on the same rays against the plain grid BLAS; the compute backend walks
+    // the grid instead and has no triangle acceleration structure to compare with
+    std::vector<std::pair<std::string, double>> raw;
+    if (b.rawTrace) {
+      submitAndWait(ctx, [&](VkCommandBuffer cb) {
+        cmdTimerStart(cb, timer);
+        cmdDispatch(cb, b.rt.closestTriangle, {bind(ws.top.tlas), bind(b.rays), bind(b.refracted)}, &b.count, groupsFor(b.count, 64));
+        cmdTimerStamp(cb, timer, "raw");
+      });
+      raw = readTimer(timer);
+    }
+    if (run == 0 && runs > 0) continue;  // warm-up (with --runs 0 the single run is kept)
+    samples["update: grid heights alone"].push_back(upd[0].second);
+    samples["update: whole (heights, refit)"].push_back(upd[1].second);
+    for (auto& [k, v] : t) samples["trace: " + k].push_back(v);
+    samples["backward: to dL/dz"].push_back(bwd[0].second);
+    samples["backward: to dL/dz + MLP weights"].push_back(bwd[1].second);
+    if (b.rawTrace) samples["raw"].push_back(raw[0].second);
+    wall.push_back(w);
+  }
+  for (auto& [k, v] : samples) row.stageMs[k] = median(v);
+  row.updateMs = row.stageMs["update: whole (heights, refit)"];
+  for (auto& [k, v] : row.stageMs)
+    if (k.rfind("trace: ", 0) == 0) row.traceMs += v;
+  row.backwardMs = row.stageMs["backward: to dL/dz + MLP weights"];
+  row.traceWallMs = median(wall);
+}
+
+// Intersection error |p.z - H(p.xy)| at the hit points of one more trace, and its counters.
+void measureHitErrors(Context& ctx, WaterSurface& ws, const HeightField& hf, SurfaceBenchRays& b, Row& row) {
+  traceSurface(ctx, ws, hf, b.rays, b.count, b.refracted, b.records);
+  row.points = ws.lastCounters.points;
+  row.missed = ws.lastCounters.missed;
+  row.fallback = ws.lastCounters.fallback;
+  auto out = downloadVector<GpuRay>(ctx, b.refracted, b.count);
+  auto rec = downloadVector<SurfaceRecord>(ctx, b.records, b.count);
+  std::vector<float> xy;
+  std::vector<float> z;
+  for (uint32_t i = 0; i < b.count; i++)
+    if (rec[i].flags() & kSurfaceHit) {
+      xy.push_back(out[i].origin[0]);
+      xy.push_back(out[i].origin[1]);
+      z.push_back(out[i].origin[2]);
+    }
+  Buffer pts = createBufferFrom(ctx, xy), hts = createBuffer(ctx, std::max<size_t>(z.size(), 1) * 4);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdEvaluateHeights(cb, hf, pts, uint32_t(z.size()), hts); });
+  auto H = downloadVector<float>(ctx, hts, z.size());
+  std::vector<double> err(z.size());
+  for (size_t i = 0; i < z.size(); i++) err[i] = std::abs(double(z[i]) - double(H[i]));
+  std::sort(err.begin(), err.end());
+  if (!err.empty()) {
+    row.errMedian = err[err.size() / 2];
+    row.errP99 = err[size_t(0.99 * double(err.size() - 1))];
+    row.errMax = err.back();
+  }
+}
+
+void printSurfaceRow(const Row& row, const SurfaceBenchRays& b) {
+  double stage = row.updateMs + row.traceMs;
+  char versusRaw[96] = "no ray queries: no raw rate";
+  if (b.rawTrace) {
+    double rawMs = row.stageMs.at("raw");
+    std::snprintf(versusRaw, sizeof versusRaw, "vs raw %.2f Mrays/s = %.2fx", b.count / rawMs / 1e3, rawMs / stage);
+  }
+  std::printf("  grid %u K %u (finest %.5f): update %.1f ms, trace %.1f ms (wall %.1f), backward %.1f ms, %u points, %u missed, "
+              "%u fallback | stage %.2f Mrays/s %s | |z-H| median %.2e p99 %.2e max %.2e\n",
+              row.cells, row.levels, row.spacing, row.updateMs, row.traceMs, row.traceWallMs, row.backwardMs, row.points, row.missed,
+              row.fallback, b.count / stage / 1e3, versusRaw, row.errMedian, row.errP99, row.errMax);
+  for (auto& [k, v] : row.stageMs) std::printf("      %-36s %8.2f ms\n", k.c_str(), v);
+}
+
+void writeSurfaceCsv(const std::string& csvPath, const std::string& deviceName, uint32_t count, uint32_t hidden, const std::vector<Row>& rows) {
+  std::filesystem::path p(csvPath);
+  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+  std::ofstream csv(csvPath);
+  if (!csv) fail("cannot write " + csvPath);
+  csv << "device,rays,mlp_width,hidden_layers,grid_cells,levels,finest_spacing,update_ms,trace_gpu_ms,trace_wall_ms,backward_ms,"
+         "stage_mrays_per_s,raw_mrays_per_s,stage_over_raw,points,missed,fallback,err_median,err_p99,err_max\n";
+  for (auto& r : rows) {
+    double stage = r.updateMs + r.traceMs;
+    csv << '"' << deviceName << '"' << ',' << count << ',' << r.width << ',' << hidden << ',' << r.cells << ',' << r.levels << ','
+        << r.spacing << ',' << r.updateMs << ',' << r.traceMs << ',' << r.traceWallMs << ',' << r.backwardMs << ',' << count / stage / 1e3
+        << ',';
+    if (r.stageMs.count("raw")) csv << count / r.stageMs.at("raw") / 1e3 << ',' << r.stageMs.at("raw") / stage;
+    else csv << ',';  // no ray queries: the raw rate's two columns stay empty
+    csv << ',' << r.points << ',' << r.missed << ',' << r.fallback << ',' << r.errMedian << ',' << r.errP99 << ',' << r.errMax << '\n';
+  }
+  std::printf("wrote %s\n", csvPath.c_str());
+}
+
 int runBenchSurface(const cli::Args& args) {
   auto ctx = cli::openContext(args);
   const uint32_t size = uint32_t(args.getInt("rays", 392));
@@ -77,20 +207,21 @@ int runBenchSurface(const cli::Args& args) {
     if (!std::isalnum(uint8_t(c))) c = '_';
   std::string csvPath = args.get("csv", "bench/results/surface_" + device + ".csv");
 
+  SurfaceBenchRays b;
   std::vector<GpuRay> rays = cameraRays(size);
-  const uint32_t count = uint32_t(rays.size());
-  Buffer rayBuf = createBufferFrom(*ctx, rays);
-  Buffer refracted = createBuffer(*ctx, count * sizeof(GpuRay)), records = createBuffer(*ctx, count * sizeof(SurfaceRecord));
-  std::vector<GpuRayGrad> gradsHost(count);
-  for (size_t i = 0; i < count; i++) gradsHost[i] = {{0.1f, -0.2f, 0.3f}, 0, {0.2f, 0.1f, -0.1f}, 0};
-  Buffer grads = createBufferFrom(*ctx, gradsHost);
-  RayTracePipelines rt = createRayTracePipelines(*ctx);
+  b.count = uint32_t(rays.size());
+  b.rays = createBufferFrom(*ctx, rays);
+  b.refracted = createBuffer(*ctx, b.count * sizeof(GpuRay));
+  b.records = createBuffer(*ctx, b.count * sizeof(SurfaceRecord));
+  std::vector<GpuRayGrad> gradsHost(b.count);
+  for (size_t i = 0; i < b.count; i++) gradsHost[i] = {{0.1f, -0.2f, 0.3f}, 0, {0.2f, 0.1f, -0.1f}, 0};
+  b.grads = createBufferFrom(*ctx, gradsHost);
+  b.rt = createRayTracePipelines(*ctx);
+  b.rawTrace = ctx->trace != TraceBackend::Compute;
   std::printf("device: %s; %u x %u camera rays; MLP %u hidden layers, %u octaves, init range %g; finest lattice %u cells per side\n",
               ctx->caps.name.c_str(), size, size, hidden, octaves, initRange, finest);
 
   std::vector<Row> rows;
-  double rawMs = 0;
-  const bool rawTrace = ctx->trace != TraceBackend::Compute;
   for (uint32_t width : widths) {
     HeightFieldConfig hc;
     hc.width = width;
@@ -108,122 +239,19 @@ int runBenchSurface(const cli::Args& args) {
       WaterSurfaceConfig cfg;
       cfg.gridCells = cells;
       cfg.subdivisionLevels = levels;
-      cfg.maxRays = count;
+      cfg.maxRays = b.count;
       auto c0 = std::chrono::steady_clock::now();
       WaterSurface ws = createWaterSurface(*ctx, cfg);
       std::printf("  surface created in %.0f ms (pipelines included)\n",
                   std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0).count());
       Row row{width, cells, levels, 2.0 / double(cells << levels)};
-      GpuTimer timer;
-      createTimer(*ctx, timer, 16);
-      std::map<std::string, std::vector<double>> samples;
-      std::vector<double> wall;
-      for (int run = 0; run < std::max(runs, 0) + 1; run++) {
-        submitAndWait(*ctx, [&](VkCommandBuffer cb) {
-          cmdTimerStart(cb, timer);
-          HeightSource hs = heightSource(hf);
-          hs.evaluate(cb, ws.gridPoints, ws.gridPointCount, ws.gridHeights);
-          cmdBarrier(cb);
-          cmdTimerStamp(cb, timer, "update: grid heights");
-          // the whole update as training runs it (grid heights again, vertices, refit), timed as one:
-          // the vertices and refit alone as a difference of the two stamps came out negative on a GPU,
-          // where each is a fraction of a millisecond and the second grid evaluation runs warm
-          cmdUpdateSurface(cb, ws, hs);
-          cmdTimerStamp(cb, timer, "update: whole");
-        });
-        auto upd = readTimer(timer);
-        SurfaceTimings t;
-        auto t0 = std::chrono::steady_clock::now();
-        traceSurface(*ctx, ws, hf, rayBuf, count, refracted, records, &t);
-        double w = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        submitAndWait(*ctx, [&](VkCommandBuffer cb) {
-          cmdTimerStart(cb, timer);
-          cmdBackwardSurface(cb, ws, heightSource(hf), rayBuf, records, grads, count);  // to dL/dz only
-          cmdTimerStamp(cb, timer, "backward dz");
-          cmdBackwardSurface(cb, ws, hf, rayBuf, records, grads, count, dW);
-          cmdTimerStamp(cb, timer, "backward dz + MLP");
-        });
-        auto bwd = readTimer(timer);
-        // raw ray-query rate on the same rays against the plain grid BLAS; the compute backend walks
-        // the grid instead and has no triangle acceleration structure to compare with
-        std::vector<std::pair<std::string, double>> raw;
-        if (rawTrace) {
-          submitAndWait(*ctx, [&](VkCommandBuffer cb) {
-            cmdTimerStart(cb, timer);
-            cmdDispatch(cb, rt.closestTriangle, {bind(ws.top.tlas), bind(rayBuf), bind(refracted)}, &count, groupsFor(count, 64));
-            cmdTimerStamp(cb, timer, "raw");
-          });
-          raw = readTimer(timer);
-        }
-        if (run == 0 && runs > 0) continue;  // warm-up (with --runs 0 the single run is kept)
-        samples["update: grid heights alone"].push_back(upd[0].second);
-        samples["update: whole (heights, refit)"].push_back(upd[1].second);
-        for (auto& [k, v] : t) samples["trace: " + k].push_back(v);
-        samples["backward: to dL/dz"].push_back(bwd[0].second);
-        samples["backward: to dL/dz + MLP weights"].push_back(bwd[1].second);
-        if (rawTrace) samples["raw"].push_back(raw[0].second);
-        wall.push_back(w);
-      }
-      for (auto& [k, v] : samples) row.stageMs[k] = median(v);
-      row.updateMs = row.stageMs["update: whole (heights, refit)"];
-      for (auto& [k, v] : row.stageMs)
-        if (k.rfind("trace: ", 0) == 0) row.traceMs += v;
-      row.backwardMs = row.stageMs["backward: to dL/dz + MLP weights"];
-      row.traceWallMs = median(wall);
-      if (rawTrace) rawMs = row.stageMs["raw"];
-      // intersection error: |p.z - H(p.xy)| at the hit points (the trace above is the last one)
-      traceSurface(*ctx, ws, hf, rayBuf, count, refracted, records);
-      row.points = ws.lastCounters.points;
-      row.missed = ws.lastCounters.missed;
-      row.fallback = ws.lastCounters.fallback;
-      auto out = downloadVector<GpuRay>(*ctx, refracted, count);
-      auto rec = downloadVector<SurfaceRecord>(*ctx, records, count);
-      std::vector<float> xy;
-      std::vector<float> z;
-      for (uint32_t i = 0; i < count; i++)
-        if (rec[i].flags() & kSurfaceHit) {
-          xy.push_back(out[i].origin[0]);
-          xy.push_back(out[i].origin[1]);
-          z.push_back(out[i].origin[2]);
-        }
-      Buffer pts = createBufferFrom(*ctx, xy), hts = createBuffer(*ctx, std::max<size_t>(z.size(), 1) * 4);
-      submitAndWait(*ctx, [&](VkCommandBuffer cb) { cmdEvaluateHeights(cb, hf, pts, uint32_t(z.size()), hts); });
-      auto H = downloadVector<float>(*ctx, hts, z.size());
-      std::vector<double> err(z.size());
-      for (size_t i = 0; i < z.size(); i++) err[i] = std::abs(double(z[i]) - double(H[i]));
-      std::sort(err.begin(), err.end());
-      if (!err.empty()) {
-        row.errMedian = err[err.size() / 2];
-        row.errP99 = err[size_t(0.99 * double(err.size() - 1))];
-        row.errMax = err.back();
-      }
-      double stage = row.updateMs + row.traceMs;
-      char versusRaw[96] = "no ray queries: no raw rate";
-      if (rawTrace) std::snprintf(versusRaw, sizeof versusRaw, "vs raw %.2f Mrays/s = %.2fx", count / rawMs / 1e3, rawMs / stage);
-      std::printf("  grid %u K %u (finest %.5f): update %.1f ms, trace %.1f ms (wall %.1f), backward %.1f ms, %u points, %u missed, "
-                  "%u fallback | stage %.2f Mrays/s %s | |z-H| median %.2e p99 %.2e max %.2e\n",
-                  cells, levels, row.spacing, row.updateMs, row.traceMs, row.traceWallMs, row.backwardMs, row.points, row.missed, row.fallback,
-                  count / stage / 1e3, versusRaw, row.errMedian, row.errP99, row.errMax);
-      for (auto& [k, v] : row.stageMs) std::printf("      %-36s %8.2f ms\n", k.c_str(), v);
+      timeSurfaceStages(*ctx, ws, hf, dW, b, runs, row);
+      measureHitErrors(*ctx, ws, hf, b, row);
+      printSurfaceRow(row, b);
       rows.push_back(row);
     }
   }
-  std::filesystem::path p(csvPath);
-  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-  std::ofstream csv(csvPath);
-  if (!csv) fail("cannot write " + csvPath);
-  csv << "device,rays,mlp_width,hidden_layers,grid_cells,levels,finest_spacing,update_ms,trace_gpu_ms,trace_wall_ms,backward_ms,"
-         "stage_mrays_per_s,raw_mrays_per_s,stage_over_raw,points,missed,fallback,err_median,err_p99,err_max\n";
-  for (auto& r : rows) {
-    double stage = r.updateMs + r.traceMs;
-    csv << '"' << ctx->caps.name << '"' << ',' << count << ',' << r.width << ',' << hidden << ',' << r.cells << ',' << r.levels << ','
-        << r.spacing << ',' << r.updateMs << ',' << r.traceMs << ',' << r.traceWallMs << ',' << r.backwardMs << ',' << count / stage / 1e3
-        << ',';
-    if (r.stageMs.count("raw")) csv << count / r.stageMs.at("raw") / 1e3 << ',' << r.stageMs.at("raw") / stage;
-    else csv << ',';  // no ray queries: the raw rate's two columns stay empty
-    csv << ',' << r.points << ',' << r.missed << ',' << r.fallback << ',' << r.errMedian << ',' << r.errP99 << ',' << r.errMax << '\n';
-  }
-  std::printf("wrote %s\n", csvPath.c_str());
+  writeSurfaceCsv(csvPath, ctx->caps.name, b.count, hidden, rows);
   return 0;
 }
 

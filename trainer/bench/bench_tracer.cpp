@@ -169,23 +169,147 @@ VariantFigures measureVariant(Context& ctx, GaussianTracer& tracer, const Gaussi
   return f;
 }
 
+// Each figure the better of two measurements (times: the lower).
+void keepBest(VariantFigures& b, const VariantFigures& f) {
+  b.buildMs = std::min(b.buildMs, f.buildMs);
+  b.refitMs = std::min(b.refitMs, f.refitMs);
+  b.forwardMs = std::min(b.forwardMs, f.forwardMs);
+  b.backwardMs = std::min(b.backwardMs, f.backwardMs);
+  b.forwardCpuMs = std::min(b.forwardCpuMs, f.forwardCpuMs);
+  b.backwardCpuMs = std::min(b.backwardCpuMs, f.backwardCpuMs);
+  b.recordingForwardMs = std::min(b.recordingForwardMs, f.recordingForwardMs);
+  b.recordingBackwardMs = std::min(b.recordingBackwardMs, f.recordingBackwardMs);
+  b.recordingForwardCpuMs = std::min(b.recordingForwardCpuMs, f.recordingForwardCpuMs);
+  b.recordingBackwardCpuMs = std::min(b.recordingBackwardCpuMs, f.recordingBackwardCpuMs);
+}
+
+// The probe's figures, each the best seen: the highest rate, the lowest time.
+void keepProbeBest(std::map<std::string, double>& best, const std::map<std::string, double>& got) {
+  for (auto& kv : got) {
+    bool time = kv.first.size() > 3 && kv.first.compare(kv.first.size() - 3, 3, "_ms") == 0;
+    if (!best.count(kv.first)) best[kv.first] = kv.second;
+    best[kv.first] = time ? std::min(best[kv.first], kv.second) : std::max(best[kv.first], kv.second);
+  }
+}
+
+struct TracerBenchSettings {
+  int runs = 3;
+  uint32_t shDegree = 3, recordsPerRay = 0;
+  double nrays = 0;
+  std::string probe;  // the rqprobe binary, or empty
+};
+
+// The two proxies' table rows; marks whether the faster one (training's CPU time) meets the goals.
+void reportVariants(const VariantFigures best[2], double probeRate, double probeCpuRate, double nrays, nlohmann::json& scene, bool& allMeet) {
+  std::printf("%-20s %8s %8s %9s %9s %9s %9s %9s %9s %9s %8s %8s %8s %8s\n", "proxy", "build ms", "refit ms", "fwd Mr/s", "vs probe",
+              "fwd Mr/cs", "vs probe", "rec fwd", "train b/f", "retrace", "recorded", "hits/ray", "rounds", "B/Gauss");
+  auto trainCpu = [](const VariantFigures& f) { return f.recordingForwardCpuMs + f.recordingBackwardCpuMs; };
+  int winner = trainCpu(best[0]) <= trainCpu(best[1]) ? 0 : 1;
+  for (int v = 0; v < 2; v++) {
+    const VariantFigures& f = best[v];
+    double fwd = nrays / (f.forwardMs * 1e3), bwd = nrays / (f.backwardMs * 1e3), retraceRatio = f.backwardMs / f.forwardMs;
+    double ratio = f.recordingBackwardMs / f.recordingForwardMs;  // training's backward over training's forward
+    double fwdCpu = nrays / (f.forwardCpuMs * 1e3);
+    char vs[32] = "-", vsCpu[32] = "-";
+    if (probeRate > 0) std::snprintf(vs, sizeof vs, "%.2fx", fwd / probeRate);
+    if (probeCpuRate > 0) std::snprintf(vsCpu, sizeof vsCpu, "%.2fx", fwdCpu / probeCpuRate);
+    std::printf("%-20s %8.1f %8.1f %9.3f %9s %9.3f %9s %8.2fx %9.2f %9.2f %7.1f%% %8.1f %8.2f %8.0f\n", proxyKindName(ProxyKind(v)), f.buildMs,
+                f.refitMs, fwd, vs, fwdCpu, vsCpu, f.recordingForwardMs / f.forwardMs, ratio, retraceRatio, 100.0 * f.recordedRays,
+                f.meanHits, f.meanRounds, f.bytesPerGaussian);
+    nlohmann::json row = {{"proxy", proxyKindName(ProxyKind(v))},
+                          {"build_ms", f.buildMs},
+                          {"refit_ms", f.refitMs},
+                          {"forward_mrays", fwd},
+                          {"backward_mrays", bwd},
+                          {"backward_over_forward", ratio},
+                          {"backward_over_forward_cpu", f.recordingBackwardCpuMs / f.recordingForwardCpuMs},
+                          {"recording_forward_over_forward", f.recordingForwardMs / f.forwardMs},
+                          {"recorded_rays", f.recordedRays},
+                          {"retrace_backward_over_forward", retraceRatio},
+                          {"retrace_backward_over_forward_cpu", f.backwardCpuMs / f.forwardCpuMs},
+                          {"forward_mrays_per_cpu_second", fwdCpu},
+                          {"hits_per_ray", f.meanHits},
+                          {"rounds_per_ray", f.meanRounds},
+                          {"bytes_per_gaussian", f.bytesPerGaussian}};
+    if (probeRate > 0) row["forward_over_probe_kbuffer"] = fwd / probeRate;
+    if (probeCpuRate > 0) row["forward_over_probe_kbuffer_cpu"] = fwdCpu / probeCpuRate;
+    scene["variants"].push_back(row);
+    if (v == winner) allMeet &= (probeRate <= 0 || fwd >= probeRate) && ratio <= 1.5;
+  }
+  std::printf("(fwd: a render forward; Mr/cs: Mrays per CPU-second of the whole process, steadier than wall time on a shared machine;\n"
+              " rec fwd: the recording forward's time over fwd's; train b/f: training's pair, the backward reading the records over\n"
+              " the recording forward; retrace: a backward re-tracing every ray over fwd; recorded: rays whose hits all fit)\n");
+  std::printf("faster proxy (training forward + backward CPU time): %s\n", proxyKindName(ProxyKind(winner)));
+  scene["winner"] = proxyKindName(ProxyKind(winner));
+}
+
+void printProbe(const std::map<std::string, double>& probeBest, int n, const std::string& key, const std::string& keyCommit, double probeCpuRate,
+                nlohmann::json& scene) {
+  auto get = [&](const std::string& k) { return probeBest.count(k) ? probeBest.at(k) : 0.0; };
+  std::printf("probe k-buffer (its aabb scene, 400x400): %.3f Mrays/s without commit, %.3f with tmax shrink; best %.3f Mrays/CPU-s\n",
+              get(key), get(keyCommit), probeCpuRate);
+  std::string wf = "water" + std::to_string(n) + "_fwd_ms", wb = "water" + std::to_string(n) + "_bwd_ms";
+  if (probeBest.count(wf) && probeBest.count(wb))
+    std::printf("probe water pass (surface + refraction + k-buffer, 392x392): forward %.1f ms (%.3f Mrays/s), backward-like %.1f ms "
+                "(14 fake atomics per hit)\n",
+                get(wf), 392.0 * 392.0 / (get(wf) * 1e3), get(wb));
+  for (auto& kv : probeBest) scene["probe"][kv.first] = kv.second;
+}
+
+// One scene of n Gaussians: both proxies (and the probe), alternated; its report entry.
+nlohmann::json benchTracerScene(Context& ctx, GaussianTracer& tracer, int n, const std::vector<GpuRay>& rays, const TracerBenchSettings& s,
+                                bool& allMeet) {
+  GaussianSet set = probeScene(n);
+  DeviceGaussians dev = uploadGaussians(ctx, set);
+  std::printf("== %d Gaussians (the probe's scene)\n", n);
+  // Engine and probe alternate twice; each side keeps its best median, so a burst of
+  // load from elsewhere does not land on one side only.
+  const int rounds = s.probe.empty() ? 1 : 2;
+  VariantFigures best[2];
+  std::map<std::string, double> probeBest;
+  for (int r = 0; r < rounds; r++) {
+    for (ProxyKind kind : {ProxyKind::AabbBlas, ProxyKind::InstancedUnitBox}) {
+      VariantFigures f = measureVariant(ctx, tracer, set, dev, kind, rays, s.runs, s.shDegree, s.recordsPerRay);
+      if (r == 0) best[uint32_t(kind)] = f;
+      keepBest(best[uint32_t(kind)], f);
+    }
+    if (!s.probe.empty()) {
+      keepProbeBest(probeBest, bench::runProbe(s.probe, "aabb " + std::to_string(n)));
+      keepProbeBest(probeBest, bench::runProbe(s.probe, "water " + std::to_string(n)));
+    }
+  }
+  std::string key = "aabb" + std::to_string(n) + "s_kbuf_PREFER_FAST_TRACE_Mrays";
+  std::string keyCommit = "aabb" + std::to_string(n) + "s_kbuf_commit_PREFER_FAST_TRACE_Mrays";
+  double probeRate = std::max(probeBest.count(key) ? probeBest[key] : 0.0, probeBest.count(keyCommit) ? probeBest[keyCommit] : 0.0);
+  nlohmann::json scene = {{"gaussians", n}};
+  // the probe's k-buffer per CPU-second (400x400 rays), the better of with/without tmax shrink
+  double probeCpuRate = 0;
+  for (const char* k : {"kbuf_cpu_ms", "kbuf_commit_cpu_ms"})
+    if (probeBest.count(k)) probeCpuRate = std::max(probeCpuRate, 400.0 * 400.0 / (probeBest[k] * 1e3));
+  reportVariants(best, probeRate, probeCpuRate, s.nrays, scene, allMeet);
+  if (!s.probe.empty()) printProbe(probeBest, n, key, keyCommit, probeCpuRate, scene);
+  std::printf("\n");
+  return scene;
+}
+
 int runBenchTracer(const cli::Args& args) {
   auto ctx = cli::openContext(args);
-  const int runs = int(args.getInt("runs", 3));
+  TracerBenchSettings s;
+  s.runs = int(args.getInt("runs", 3));
   const uint32_t size = uint32_t(args.getInt("size", 392));
   const uint32_t K = uint32_t(args.getInt("k", kDefaultKBuffer));
-  const uint32_t recordsPerRay = uint32_t(args.getIntIn("hit-records", kDefaultHitRecordsPerRay, 1, 1024));
+  s.recordsPerRay = uint32_t(args.getIntIn("hit-records", kDefaultHitRecordsPerRay, 1, 1024));
   const long shDegreeArg = args.getInt("sh-degree", 3);
   if (shDegreeArg < 0 || shDegreeArg > 3) fail("--sh-degree must be 0..3");
-  const uint32_t shDegree = uint32_t(shDegreeArg);
+  s.shDegree = uint32_t(shDegreeArg);
   std::vector<int> counts = parseCounts(args.get("counts", "10000,100000"));
-  std::string probe = args.get("probe");
-  const double nrays = double(size) * size;
+  s.probe = args.get("probe");
+  s.nrays = double(size) * size;
   std::printf("device: %s (%s)\n%u x %u camera rays, K = %u, SH degree %u, %u hit records per ray (%u bytes), median of %d runs after 1 warm-up\n",
-              ctx->caps.name.c_str(), ctx->caps.driver.c_str(), size, size, K, shDegree, recordsPerRay, 8 * recordsPerRay, runs);
+              ctx->caps.name.c_str(), ctx->caps.driver.c_str(), size, size, K, s.shDegree, s.recordsPerRay, 8 * s.recordsPerRay, s.runs);
   std::printf("backward atomics: %s\n\n", ctx->caps.floatAtomicAdd ? "float atomicAdd" : "compare-and-swap loop");
-  nlohmann::json report = {{"device", ctx->caps.name}, {"driver", ctx->caps.driver}, {"rays", nrays},        {"k", K},
-                           {"sh_degree", shDegree},   {"runs", runs},                  {"hit_records", recordsPerRay}};
+  nlohmann::json report = {{"device", ctx->caps.name}, {"driver", ctx->caps.driver}, {"rays", s.nrays},        {"k", K},
+                           {"sh_degree", s.shDegree}, {"runs", s.runs},                {"hit_records", s.recordsPerRay}};
 
   FlyCamera cam;  // the probe's aabb camera
   lookAt(cam, {0.f, -2.0f, 1.2f}, {0.f, 0.f, -0.5f});
@@ -199,107 +323,7 @@ int runBenchTracer(const cli::Args& args) {
   }
   GaussianTracer tracer = createGaussianTracer(*ctx, K);
   bool allMeet = true;
-  for (int n : counts) {
-    GaussianSet set = probeScene(n);
-    DeviceGaussians dev = uploadGaussians(*ctx, set);
-    std::printf("== %d Gaussians (the probe's scene)\n", n);
-    // Engine and probe alternate twice; each side keeps its best median, so a burst of
-    // load from elsewhere does not land on one side only.
-    const int rounds = probe.empty() ? 1 : 2;
-    VariantFigures best[2];
-    std::map<std::string, double> probeBest;
-    for (int r = 0; r < rounds; r++) {
-      for (ProxyKind kind : {ProxyKind::AabbBlas, ProxyKind::InstancedUnitBox}) {
-        VariantFigures f = measureVariant(*ctx, tracer, set, dev, kind, rays, runs, shDegree, recordsPerRay);
-        VariantFigures& b = best[uint32_t(kind)];
-        if (r == 0) b = f;
-        b.buildMs = std::min(b.buildMs, f.buildMs);
-        b.refitMs = std::min(b.refitMs, f.refitMs);
-        b.forwardMs = std::min(b.forwardMs, f.forwardMs);
-        b.backwardMs = std::min(b.backwardMs, f.backwardMs);
-        b.forwardCpuMs = std::min(b.forwardCpuMs, f.forwardCpuMs);
-        b.backwardCpuMs = std::min(b.backwardCpuMs, f.backwardCpuMs);
-        b.recordingForwardMs = std::min(b.recordingForwardMs, f.recordingForwardMs);
-        b.recordingBackwardMs = std::min(b.recordingBackwardMs, f.recordingBackwardMs);
-        b.recordingForwardCpuMs = std::min(b.recordingForwardCpuMs, f.recordingForwardCpuMs);
-        b.recordingBackwardCpuMs = std::min(b.recordingBackwardCpuMs, f.recordingBackwardCpuMs);
-      }
-      if (!probe.empty()) {
-        auto keep = [&](const std::map<std::string, double>& got) {  // best: highest rate, lowest time
-          for (auto& kv : got) {
-            bool time = kv.first.size() > 3 && kv.first.compare(kv.first.size() - 3, 3, "_ms") == 0;
-            if (!probeBest.count(kv.first)) probeBest[kv.first] = kv.second;
-            probeBest[kv.first] = time ? std::min(probeBest[kv.first], kv.second) : std::max(probeBest[kv.first], kv.second);
-          }
-        };
-        keep(bench::runProbe(probe, "aabb " + std::to_string(n)));
-        keep(bench::runProbe(probe, "water " + std::to_string(n)));
-      }
-    }
-    std::string key = "aabb" + std::to_string(n) + "s_kbuf_PREFER_FAST_TRACE_Mrays";
-    std::string keyCommit = "aabb" + std::to_string(n) + "s_kbuf_commit_PREFER_FAST_TRACE_Mrays";
-    double probeRate = std::max(probeBest.count(key) ? probeBest[key] : 0.0, probeBest.count(keyCommit) ? probeBest[keyCommit] : 0.0);
-    nlohmann::json scene = {{"gaussians", n}};
-    // the probe's k-buffer per CPU-second (400x400 rays), the better of with/without tmax shrink
-    double probeCpuRate = 0;
-    for (const char* k : {"kbuf_cpu_ms", "kbuf_commit_cpu_ms"})
-      if (probeBest.count(k)) probeCpuRate = std::max(probeCpuRate, 400.0 * 400.0 / (probeBest[k] * 1e3));
-    std::printf("%-20s %8s %8s %9s %9s %9s %9s %9s %9s %9s %8s %8s %8s %8s\n", "proxy", "build ms", "refit ms", "fwd Mr/s", "vs probe",
-                "fwd Mr/cs", "vs probe", "rec fwd", "train b/f", "retrace", "recorded", "hits/ray", "rounds", "B/Gauss");
-    auto trainCpu = [](const VariantFigures& f) { return f.recordingForwardCpuMs + f.recordingBackwardCpuMs; };
-    int winner = trainCpu(best[0]) <= trainCpu(best[1]) ? 0 : 1;
-    for (int v = 0; v < 2; v++) {
-      const VariantFigures& f = best[v];
-      double fwd = nrays / (f.forwardMs * 1e3), bwd = nrays / (f.backwardMs * 1e3), retraceRatio = f.backwardMs / f.forwardMs;
-      double ratio = f.recordingBackwardMs / f.recordingForwardMs;  // training's backward over training's forward
-      double fwdCpu = nrays / (f.forwardCpuMs * 1e3);
-      char vs[32] = "-", vsCpu[32] = "-";
-      if (probeRate > 0) std::snprintf(vs, sizeof vs, "%.2fx", fwd / probeRate);
-      if (probeCpuRate > 0) std::snprintf(vsCpu, sizeof vsCpu, "%.2fx", fwdCpu / probeCpuRate);
-      std::printf("%-20s %8.1f %8.1f %9.3f %9s %9.3f %9s %8.2fx %9.2f %9.2f %7.1f%% %8.1f %8.2f %8.0f\n", proxyKindName(ProxyKind(v)), f.buildMs,
-                  f.refitMs, fwd, vs, fwdCpu, vsCpu, f.recordingForwardMs / f.forwardMs, ratio, retraceRatio, 100.0 * f.recordedRays,
-                  f.meanHits, f.meanRounds, f.bytesPerGaussian);
-      nlohmann::json row = {{"proxy", proxyKindName(ProxyKind(v))},
-                            {"build_ms", f.buildMs},
-                            {"refit_ms", f.refitMs},
-                            {"forward_mrays", fwd},
-                            {"backward_mrays", bwd},
-                            {"backward_over_forward", ratio},
-                            {"backward_over_forward_cpu", f.recordingBackwardCpuMs / f.recordingForwardCpuMs},
-                            {"recording_forward_over_forward", f.recordingForwardMs / f.forwardMs},
-                            {"recorded_rays", f.recordedRays},
-                            {"retrace_backward_over_forward", retraceRatio},
-                            {"retrace_backward_over_forward_cpu", f.backwardCpuMs / f.forwardCpuMs},
-                            {"forward_mrays_per_cpu_second", fwdCpu},
-                            {"hits_per_ray", f.meanHits},
-                            {"rounds_per_ray", f.meanRounds},
-                            {"bytes_per_gaussian", f.bytesPerGaussian}};
-      if (probeRate > 0) row["forward_over_probe_kbuffer"] = fwd / probeRate;
-      if (probeCpuRate > 0) row["forward_over_probe_kbuffer_cpu"] = fwdCpu / probeCpuRate;
-      scene["variants"].push_back(row);
-      if (v == winner) {
-        bool meets = (probeRate <= 0 || fwd >= probeRate) && ratio <= 1.5;
-        allMeet &= meets;
-      }
-    }
-    std::printf("(fwd: a render forward; Mr/cs: Mrays per CPU-second of the whole process, steadier than wall time on a shared machine;\n"
-                " rec fwd: the recording forward's time over fwd's; train b/f: training's pair, the backward reading the records over\n"
-                " the recording forward; retrace: a backward re-tracing every ray over fwd; recorded: rays whose hits all fit)\n");
-    std::printf("faster proxy (training forward + backward CPU time): %s\n", proxyKindName(ProxyKind(winner)));
-    scene["winner"] = proxyKindName(ProxyKind(winner));
-    if (!probe.empty()) {
-      std::printf("probe k-buffer (its aabb scene, 400x400): %.3f Mrays/s without commit, %.3f with tmax shrink; best %.3f Mrays/CPU-s\n",
-                  probeBest.count(key) ? probeBest[key] : 0.0, probeBest.count(keyCommit) ? probeBest[keyCommit] : 0.0, probeCpuRate);
-      std::string wf = "water" + std::to_string(n) + "_fwd_ms", wb = "water" + std::to_string(n) + "_bwd_ms";
-      if (probeBest.count(wf) && probeBest.count(wb))
-        std::printf("probe water pass (surface + refraction + k-buffer, 392x392): forward %.1f ms (%.3f Mrays/s), backward-like %.1f ms "
-                    "(14 fake atomics per hit)\n",
-                    probeBest[wf], 392.0 * 392.0 / (probeBest[wf] * 1e3), probeBest[wb]);
-      for (auto& kv : probeBest) scene["probe"][kv.first] = kv.second;
-    }
-    std::printf("\n");
-    report["scenes"].push_back(scene);
-  }
+  for (int n : counts) report["scenes"].push_back(benchTracerScene(*ctx, tracer, n, rays, s, allMeet));
   std::printf("goals (forward >= 1.0x the probe's k-buffer, training backward <= 1.5x training forward time) for the faster proxy: %s\n",
               allMeet ? "met" : "not met");
   report["goals_met"] = allMeet;

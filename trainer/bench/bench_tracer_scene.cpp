@@ -115,23 +115,10 @@ double cpuNowMs() {
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
-int runBenchTracerScene(const cli::Args& args) {
-  if (!args.has("ply")) fail("refrax bench tracer-scene needs --ply FILE");
-  GaussianSet set = readGaussiansPly(args.get("ply"));
-  if (set.count() == 0) fail("the PLY has no Gaussians");
-  FlyCamera cam = parseLookAt(args.get("camera", "0,-2,1.2,0,0,-0.5"));
-  cam.tanHalfFovY = 0.36f;
-  long size = args.getInt("size", 256);
-  if (size <= 0 || size > 4096) fail("--size must be between 1 and 4096");
-  int runs = int(args.getInt("runs", 3));
-  long stride = std::max(1L, args.getInt("sample-stride", 8));
-  std::vector<int> ks = parseList(args.get("k", "16,48"));
-  const uint32_t recordsPerRay = uint32_t(args.getIntIn("hit-records", kDefaultHitRecordsPerRay, 1, 1024));
-  const uint32_t count = uint32_t(size * size);
-  const size_t n = set.count();
-
-  // ---- proxies
+// The Gaussians' proxy boxes, with their bounds, densities and sizes printed.
+std::vector<Box> proxyBoxes(const GaussianSet& set) {
   using namespace f64;
+  const size_t n = set.count();
   std::vector<Box> boxes(n);
   std::vector<double> side(n), density(n);
   Box scene;
@@ -152,7 +139,15 @@ int runBenchTracerScene(const cli::Args& args) {
   std::printf("proxy box longest side quantiles 50/90/99/100%%: %.4f %.4f %.4f %.4f\n", quantile(side, 0.5), quantile(side, 0.9),
               quantile(side, 0.99), quantile(side, 1.0));
 
-  // ---- device render (rays for the emulation) and timings
+  return boxes;
+}
+
+// The forward (and with --backward the backward) per K on the device, timed; returns the
+// camera rays it traced (for the emulation).
+std::vector<GpuRay> timeDeviceTracer(const cli::Args& args, const GaussianSet& set, const FlyCamera& cam, long size, int runs,
+                                     const std::vector<int>& ks, uint32_t recordsPerRay) {
+  const uint32_t count = uint32_t(size * size);
+  const size_t n = set.count();
   auto ctx = cli::openContext(args);
   ProxyKind kind = proxyKindFor(args.get("proxy", "aabb"), ctx->caps);
   DeviceGaussians dev = uploadGaussians(*ctx, set);
@@ -207,7 +202,14 @@ int runBenchTracerScene(const cli::Args& args) {
                 fwdMs, count / (fwdMs * 1e3), fwdCpu, backwardText, hits / count, rounds / count);
   }
 
-  // ---- CPU emulation of the BVH on every stride-th pixel in x and y
+  return rays;
+}
+
+// A CPU emulation of the BVH on every stride-th pixel in x and y: nodes visited, candidates,
+// accepted hits, and how many of them come before the forward would stop.
+void emulateBvh(const GaussianSet& set, const std::vector<Box>& boxes, const std::vector<GpuRay>& rays, long size, long stride) {
+  using namespace f64;
+  const size_t n = set.count();
   std::vector<uint32_t> order = medianSplitOrder(boxes);
   std::vector<Box> slotBoxes = permuted(boxes, order);
   std::vector<SimNode> nodes;
@@ -255,6 +257,23 @@ int runBenchTracerScene(const cli::Args& args) {
   std::printf("BVH emulation (%ld rays, whole ray): %.1f internal nodes, %.1f leaf candidates, %.1f accepted hits per ray; "
               "up to the stop: %.1f candidates, %.1f accepted hits\n",
               sampled, visits / s, leaves / s, accepted / s, beforeStop / s, acceptedBeforeStop / s);
+}
+
+int runBenchTracerScene(const cli::Args& args) {
+  if (!args.has("ply")) fail("refrax bench tracer-scene needs --ply FILE");
+  GaussianSet set = readGaussiansPly(args.get("ply"));
+  if (set.count() == 0) fail("the PLY has no Gaussians");
+  FlyCamera cam = parseLookAt(args.get("camera", "0,-2,1.2,0,0,-0.5"));
+  cam.tanHalfFovY = 0.36f;
+  long size = args.getInt("size", 256);
+  if (size <= 0 || size > 4096) fail("--size must be between 1 and 4096");
+  int runs = int(args.getInt("runs", 3));
+  long stride = std::max(1L, args.getInt("sample-stride", 8));
+  std::vector<int> ks = parseList(args.get("k", "16,48"));
+  const uint32_t recordsPerRay = uint32_t(args.getIntIn("hit-records", kDefaultHitRecordsPerRay, 1, 1024));
+  const std::vector<Box> boxes = proxyBoxes(set);
+  const std::vector<GpuRay> rays = timeDeviceTracer(args, set, cam, size, runs, ks, recordsPerRay);
+  emulateBvh(set, boxes, rays, size, stride);
   return 0;
 }
 
