@@ -42,7 +42,7 @@ BatchGradients firstBatchGradients(Context& ctx, const TrainConfig& c, const Dat
   fillBuffer(ctx, s->grads, 0);
   fillBuffer(ctx, s->stats, 0);
   BatchGradients g;
-  g.loss = forwardBatch(*s, batch, opt, [&](VkCommandBuffer cb) { cmdBackwardBatch(cb, *s, batch, opt, false); }).imageLoss;
+  g.loss = forwardBatch(*s, batch, opt, [&](VkCommandBuffer cb, const BatchContext& context) { cmdBackwardBatch(cb, *s, context, false); }).imageLoss;
   g.grads = downloadVector<float>(ctx, s->grads, s->gaussians.count() * kGaussianFloats);
   g.stats = downloadVector<float>(ctx, s->stats, s->gaussians.count() * 2);
   g.rayGrads = downloadVector<GpuRayGrad>(ctx, s->rayGrads, batch.rays());

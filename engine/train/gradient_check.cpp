@@ -27,14 +27,15 @@ SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batc
   pushWaterGradient(s);  // the pending sum goes to heightGrad, which is kept and put back below
   const TraceOptions opt = stepTraceOptions(s, batch, s.step + 1);
   SurfaceGradientCheck r;
-  r.loss = forwardBatch(s, batch, opt).imageLoss;
+  const BatchForward forward = forwardBatch(s, batch, opt);
+  r.loss = forward.imageLoss;
   // The gradient summed since the last surface step (--surface-batch), put back at the end.
   const std::vector<float> pendingSum = downloadVector<float>(ctx, s.heightGrad, s.height->parameterCount);
   fillBuffer(ctx, s.grads, 0);
   fillBuffer(ctx, s.stats, 0);
   fillBuffer(ctx, s.heightGrad, 0);
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    cmdBackwardBatch(cb, s, batch, opt, true);
+    cmdBackwardBatch(cb, s, forward.context, true);
     cmdPushSurfaceGradients(cb, *s.surface, heightSource(*s.height, s.heightGrad));
   });
   std::vector<float> gradient = downloadVector<float>(ctx, s.heightGrad, s.height->parameterCount);

@@ -387,13 +387,15 @@ TraceOptions stepTraceOptions(TrainSession& s, const StepBatch& b, int t) {
   return opt;
 }
 
-BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOptions& opt, const std::function<void(VkCommandBuffer)>& then) {
+BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOptions& opt,
+                          const std::function<void(VkCommandBuffer, const BatchContext&)>& then) {
   Context& ctx = *s.ctx;
   const View& view = s.dataset.split("train")[b.view];
   const Camera& cam = view.camera;
   const uint32_t n = b.rays();
   ensureRayCapacity(s, n);
   BatchForward f;
+  f.context = {b, opt, &s.rays, s.surface ? &s.refracted : &s.rays, &s.results, &s.dLoss, s.surface ? &s.records : nullptr};
   f.target.resize(size_t(n) * 3);
   // A masked view: its target and its rendering both times the mask, and the loss's gradient
   // too (the SSIM window reaches across the mask's edge), so the pixels that do not count add
@@ -438,7 +440,7 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
     cmdCopyStrided(cb, s.copyPipeline, s.lossGrad, {3, 0}, s.dLoss, {4, 0}, 3, n, weights);
     cmdBarrier(cb);
     profileStage(cb, ctx, "loss");
-    if (then) then(cb);
+    if (then) then(cb, f.context);
   };
   if (s.surface) {
     if (!surfaceCacheHasRoom(*s.surface, n)) pushWaterGradient(s);
@@ -454,11 +456,14 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
   return f;
 }
 
-void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& s, const StepBatch& b, const TraceOptions& opt, bool surfaceLearns) {
-  const Buffer& traced = s.surface ? s.refracted : s.rays;
-  cmdTraceBackward(cb, s.tracer, s.proxies, s.device, traced, s.results, s.dLoss, s.grads, s.stats, s.rayGrads, b.rays(), opt);
+void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& s, const BatchContext& f, bool surfaceLearns) {
+  cmdTraceBackward(cb, s.tracer, s.proxies, s.device, *f.tracedRays, *f.results, *f.dLoss, s.grads, s.stats, s.rayGrads, f.rays(),
+                   f.options);
   profileStage(cb, *s.ctx, "gaussian backward");
-  if (surfaceLearns) cmdBackwardSurfaceToHeights(cb, *s.surface, s.rays, s.records, s.rayGrads, b.rays());
+  if (surfaceLearns) {
+    if (!f.surfaceRecords) fail("the water's backward of a batch traced without water");
+    cmdBackwardSurfaceToHeights(cb, *s.surface, *f.cameraRays, *f.surfaceRecords, s.rayGrads, f.rays());
+  }
 }
 
 namespace {
@@ -701,11 +706,11 @@ StepResult trainStep(TrainSession& s) {
   const int t = ++s.step;
   const StepBatch batch = nextStepBatch(s);
   const TraceOptions opt = stepTraceOptions(s, batch, t);
-  const BatchForward forward = forwardBatch(s, batch, opt, [&](VkCommandBuffer cb) {
+  const BatchForward forward = forwardBatch(s, batch, opt, [&](VkCommandBuffer cb, const BatchContext& context) {
     vkCmdFillBuffer(cb, s.grads.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cb, s.stats.buffer, 0, VK_WHOLE_SIZE, 0);
     cmdBarrier(cb);
-    cmdBackwardBatch(cb, s, batch, opt, waterLearnsAt(s, t));
+    cmdBackwardBatch(cb, s, context, waterLearnsAt(s, t));
     cmdDensityLoss(cb, s);
   });
   StepResult r;

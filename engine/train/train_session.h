@@ -151,22 +151,36 @@ StepBatch nextStepBatch(TrainSession& session);
 // The trace options of step t (background, SH degree, hit records) for this batch; also sets
 // the surface's face-normal switch for step t.
 TraceOptions stepTraceOptions(TrainSession& session, const StepBatch& batch, int t);
+// What a batch's forward hands its backward (as tiny-cuda-nn's forward returns the context its
+// backward takes): the batch, its trace options, and the device buffers the forward wrote,
+// named, so no stage reads "the last forward" from hidden state. The buffers are the
+// session's; a context is good until the session's next forward.
+struct BatchContext {
+  StepBatch batch;
+  TraceOptions options;
+  const Buffer* cameraRays = nullptr;      // the camera rays (into the water, or straight on)
+  const Buffer* tracedRays = nullptr;      // the rays the Gaussians saw: refracted, or the camera rays
+  const Buffer* results = nullptr;         // the Gaussian forward's per-ray results
+  const Buffer* dLoss = nullptr;           // dL/d(rgb, opacity) per ray
+  const Buffer* surfaceRecords = nullptr;  // the surface trace's per-ray records; null without water
+  uint32_t rays() const { return batch.rays(); }
+};
 struct BatchForward {
   double imageLoss = 0;  // 0.8 L1 + 0.2 (1 - SSIM) of the batch
   std::vector<float> rendered, target;  // rgb per ray (times the mask for a masked view)
   std::vector<float> weight;            // per ray: the view's mask (1: counts); empty: every ray counts
+  BatchContext context;                 // what cmdBackwardBatch takes
 };
 // Camera rays -> water (unless --no-refraction) -> Gaussians -> image loss, at the session's
-// current parameters; leaves dL/d(rendered) in session.dLoss for cmdBackwardBatch. `then`
-// records more work (the backward) into the same submission, after the loss.
+// current parameters. `then` records more work (the backward, given the batch's context) into
+// the same submission, after the loss.
 BatchForward forwardBatch(TrainSession& session, const StepBatch& batch, const TraceOptions& options,
-                          const std::function<void(VkCommandBuffer)>& then = {});
-// Records the backward of the last forwardBatch: per-Gaussian gradients into session.grads
-// (and statistics), per-ray dL/d(ray) and, when the surface learns, dL/d(height parameters)
-// added to session.heightGrad (the MLP; the plane's lattice gradients stay in the surface).
+                          const std::function<void(VkCommandBuffer, const BatchContext&)>& then = {});
+// Records the backward of the forward that returned `context`: per-Gaussian gradients into
+// session.grads (and statistics), per-ray dL/d(ray) and, when the surface learns, dL/d(height)
+// at the surface's lattice points (pushed into the parameters by pushWaterGradient).
 // session.grads and session.stats must have been cleared.
-void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& session, const StepBatch& batch, const TraceOptions& options,
-                      bool surfaceLearns);
+void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& session, const BatchContext& context, bool surfaceLearns);
 
 // After the host table changed (Adam, decay, reset, densification): upload it and refresh
 // the proxies (same count: rebuild in place; new count: new proxies).
