@@ -73,6 +73,7 @@ else
     -E "^compute:(${one_backend:-none}|${rayquery_only:-none})\$" -LE long || status=$?
   # The long test runs once: it asserts the median and the worst of three seeds
   # (tests/test_train.cpp), so one seed's bad run is logged, not retried until it passes.
-  timed "the long test" ctest --output-on-failure -L long -E "^compute:" || status=$?
+  # Verbose, so the log keeps every seed's figures (doctest's MESSAGE and WARN lines) on a pass too.
+  timed "the long test" ctest --output-on-failure --verbose -L long -E "^compute:" || status=$?
   exit $status
 fi
