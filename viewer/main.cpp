@@ -77,6 +77,9 @@ void applyWaterOption(const std::string& water, float level, RenderSettings& r) 
   }
 }
 
+// The built-in surface shown with nothing loaded (--surface), before the panel changes it.
+BuiltinSurface fallbackSurface(const ViewerOptions& o) { return BuiltinSurface{o.surface, 0.0f, 0.03f, 0.6f, 30.0f}; }
+
 // The files the options name, read (or at least checked) before a window opens, so each is
 // one clear error with or without a display.
 struct ViewerInputs {
@@ -89,8 +92,7 @@ ViewerInputs readInputs(const ViewerOptions& o) {
   if (!o.runDir.empty()) in.defaultK = std::max(in.defaultK, long(readRunConfig(o.runDir).kBuffer));  // also: a folder that is not a run
   if (!o.ply.empty()) in.plyGaussians = readGaussiansPly(o.ply);
   if (isMeshFile(o.water)) readSurfaceGltf(o.water);
-  BuiltinSurface fallback{o.surface, 0.0f, 0.03f, 0.6f, 30.0f};
-  surfaceHeightFunction(fallback);  // an unknown --surface
+  surfaceHeightFunction(fallbackSurface(o));  // an unknown --surface
   return in;
 }
 
@@ -359,7 +361,7 @@ int runViewer(const cli::Args& args) {
   v.ctx = ctx.get();
   v.scene = openScene(*ctx, o, inputs, uint32_t(K));
   v.state = initialState(o, v.scene.get(), K);
-  v.fallbackSurface = BuiltinSurface{o.surface, 0.0f, 0.03f, 0.6f, 30.0f};
+  v.fallbackSurface = fallbackSurface(o);
   v.home = v.camera = o.home;
   createSurface(*ctx, v.window, v.sc);
   createSwapchain(*ctx, v.window, v.sc);
