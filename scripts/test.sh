@@ -3,12 +3,22 @@
 # named by REFRAX_DEVICE) with the Khronos validation layer on.
 #   scripts/test.sh              release build in build/
 #   scripts/test.sh --sanitize   ASan+UBSan build in build-sanitize/
+#   ... --build-only             build, run nothing (.ci/run builds the sanitizer suite beside the release one)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=build
 cmake_args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo)
 ctest_args=()
-if [ "${1:-}" = "--sanitize" ]; then
+sanitize=0
+build_only=0
+for arg in "$@"; do
+  case $arg in
+    --sanitize) sanitize=1 ;;
+    --build-only) build_only=1 ;;
+    *) echo "test.sh: unknown option '$arg' (--sanitize, --build-only)" >&2; exit 2 ;;
+  esac
+done
+if [ $sanitize = 1 ]; then
   build=build-sanitize
   # Tests in the doctest suite "long" train for minutes; under ASan they would take several
   # times that and check no code path the short ones miss, so the release run alone has them
@@ -43,6 +53,7 @@ timed() {
 }
 cmake -S . -B "$build" "${cmake_args[@]}" >/dev/null
 timed "the $build build" cmake --build "$build" -j"$(nproc)"
+[ $build_only = 0 ] || exit 0
 cd "$build"
 escape() { sed 's/[][\.*^$()+?{}|]/\\&/g'; }
 if [ ${#ctest_args[@]} -gt 0 ]; then
