@@ -40,9 +40,9 @@ GPU_TEST_CASE("gradcheck: the trainer's water gradient matches central differenc
   c.patch = 0;
   c.schedule.faceNormalsUntil = 0;
   auto s = createTrainSession(ctx, c, d);
-  while (s->step < 20) trainStep(*s);  // the Gaussians have started to fit
+  while (s->model.step < 20) trainStep(*s);  // the Gaussians have started to fit
 
-  const std::vector<float> heightsBefore = downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount);
+  const std::vector<float> heightsBefore = downloadVector<float>(ctx, s->model.surface->gridHeights, s->model.surface->gridPointCount);
   const std::vector<double> steps = {1e-3, 3e-3};  // height changes of about 3 and 10 mm
   std::vector<double> rayRatios, lossRatios;
   for (int b = 0; b < 6; b++) {
@@ -71,7 +71,7 @@ GPU_TEST_CASE("gradcheck: the trainer's water gradient matches central differenc
   CHECK(loss > 0.5);
   CHECK(loss < 2.0);
   // The check leaves the water as it found it.
-  CHECK(downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount) == heightsBefore);
+  CHECK(downloadVector<float>(ctx, s->model.surface->gridHeights, s->model.surface->gridPointCount) == heightsBefore);
 }
 
 GPU_TEST_CASE("gradcheck: keeps a pending --surface-batch sum, and a wrong-size direction or no learned water is a clear error") {
@@ -86,10 +86,10 @@ GPU_TEST_CASE("gradcheck: keeps a pending --surface-batch sum, and a wrong-size 
   trainStep(*s);
   trainStep(*s);  // two of four gradients summed, no surface step yet
   pushWaterGradient(*s);  // the sum so far, from dL/dheight at the surface's points into heightGrad
-  const std::vector<float> pending = downloadVector<float>(ctx, s->heightGrad, s->height->parameterCount);
+  const std::vector<float> pending = downloadVector<float>(ctx, s->water.heightGrad, s->model.height->parameterCount);
   CHECK(std::any_of(pending.begin(), pending.end(), [](float g) { return g != 0.0f; }));
   checkSurfaceGradient(*s, nextStepBatch(*s), {}, {1e-3});
-  CHECK(downloadVector<float>(ctx, s->heightGrad, s->height->parameterCount) == pending);
+  CHECK(downloadVector<float>(ctx, s->water.heightGrad, s->model.height->parameterCount) == pending);
   StepBatch batch = nextStepBatch(*s);
   CHECK_THROWS_WITH_AS(checkSurfaceGradient(*s, batch, {1.0, 2.0}, {1e-3}), doctest::Contains("direction has 2 values"), Error);
   c.model = WaterModel::FlatWater;

@@ -39,13 +39,13 @@ BatchGradients firstBatchGradients(Context& ctx, const TrainConfig& c, const Dat
   auto s = createTrainSession(ctx, c, d);
   const StepBatch batch = nextStepBatch(*s);
   const TraceOptions opt = stepTraceOptions(*s, batch, 1);
-  fillBuffer(ctx, s->grads, 0);
-  fillBuffer(ctx, s->stats, 0);
+  fillBuffer(ctx, s->buffers.grads, 0);
+  fillBuffer(ctx, s->buffers.stats, 0);
   BatchGradients g;
   g.loss = forwardBatch(*s, batch, opt, [&](VkCommandBuffer cb, const BatchContext& context) { cmdBackwardBatch(cb, *s, context, false); }).imageLoss;
-  g.grads = downloadVector<float>(ctx, s->grads, s->gaussians.count() * kGaussianFloats);
-  g.stats = downloadVector<float>(ctx, s->stats, s->gaussians.count() * 2);
-  g.rayGrads = downloadVector<GpuRayGrad>(ctx, s->rayGrads, batch.rays());
+  g.grads = downloadVector<float>(ctx, s->buffers.grads, s->model.gaussians.count() * kGaussianFloats);
+  g.stats = downloadVector<float>(ctx, s->buffers.stats, s->model.gaussians.count() * 2);
+  g.rayGrads = downloadVector<GpuRayGrad>(ctx, s->buffers.rayGrads, batch.rays());
   return g;
 }
 

@@ -70,12 +70,12 @@ GPU_TEST_CASE("mesh swap render: a view through a swapped-in mesh matches the CP
     cam.height = std::max(1, int(std::lround(view.height * scale)));
     cam.fx *= scale, cam.fy *= scale, cam.cx *= scale, cam.cy *= scale;
     const uint32_t n = uint32_t(cam.width * cam.height);
-    fillBuffer(ctx, s->refracted, test::kMeshPoison);
-    fillBuffer(ctx, s->records, test::kMeshPoison);
-    RenderedView v = renderView(*s, cam, WaterView::Swap, SwapSurface{nullptr, &surface});
-    auto rays = downloadVector<GpuRay>(ctx, s->rays, n);
-    auto refracted = downloadVector<GpuRay>(ctx, s->refracted, n);
-    auto flags = downloadVector<uint32_t>(ctx, s->records, n);
+    fillBuffer(ctx, s->model.refracted, test::kMeshPoison);
+    fillBuffer(ctx, s->model.records, test::kMeshPoison);
+    RenderedView v = renderView(s->model, cam, WaterView::Swap, SwapSurface{nullptr, &surface});
+    auto rays = downloadVector<GpuRay>(ctx, s->model.rays, n);
+    auto refracted = downloadVector<GpuRay>(ctx, s->model.refracted, n);
+    auto flags = downloadVector<uint32_t>(ctx, s->model.records, n);
 
     ref::MeshRefractOptions mopt;
     mopt.ior = c.ior;
@@ -89,8 +89,8 @@ GPU_TEST_CASE("mesh swap render: a view through a swapped-in mesh matches the CP
 
     ref::TraceOptionsD topt;
     for (int ch = 0; ch < 3; ch++) topt.background[ch] = c.datasetOptions.background[ch];
-    topt.shDegree = shDegreeAt(s->config, std::max(1, s->step));
-    std::vector<double> params = ref::toDouble(s->gaussians);
+    topt.shDegree = shDegreeAt(s->model.config, std::max(1, s->model.step));
+    std::vector<double> params = ref::toDouble(s->model.gaussians);
     size_t compared = 0, nearEdge = 0, nearThreshold = 0, covered = 0;
     double worst = 0;
     for (uint32_t i = 0; i < n; i++) {

@@ -42,33 +42,33 @@ void checkModelMatchesSession(Context& ctx, int steps, Change change) {
   change(c);
   resolveSchedule(c);
   auto session = createTrainSession(ctx, c, d);
-  while (session->step < steps) trainStep(*session);
+  while (session->model.step < steps) trainStep(*session);
   const std::string run = dir / "run";
   std::filesystem::create_directories(run);
-  writeJson(run + "/config.json", trainConfigToJson(session->config));
+  writeJson(run + "/config.json", trainConfigToJson(session->model.config));
   saveCheckpoint(*session, run);
 
   const Dataset dataset = loadRunDataset(readRunConfig(run));
   auto model = openModel(ctx, run, dataset);
-  CHECK(model->step == session->step);
-  CHECK(model->trainingSeconds == session->trainingSeconds);
-  CHECK(model->gaussians.params == session->gaussians.params);
-  CHECK(model->planeHeight == session->planeHeight);
-  CHECK(bool(model->surface) == bool(session->surface));
-  if (session->height) {
+  CHECK(model->step == session->model.step);
+  CHECK(model->trainingSeconds == session->model.trainingSeconds);
+  CHECK(model->gaussians.params == session->model.gaussians.params);
+  CHECK(model->planeHeight == session->model.planeHeight);
+  CHECK(bool(model->surface) == bool(session->model.surface));
+  if (session->model.height) {
     REQUIRE(model->height);
-    CHECK(model->height->config.encodingWindow == session->height->config.encodingWindow);
+    CHECK(model->height->config.encodingWindow == session->model.height->config.encodingWindow);
     // The anchored constant: training reaches it by one shift per surface step, the load by
     // one shift from the base, so the two agree to float rounding (measured up to 1e-9 m; the
     // anchor left out on load is 1e-4 to 1e-2 m off).
-    CHECK(std::abs(model->height->config.initialHeight - session->height->config.initialHeight) <= kHeightRounding);
+    CHECK(std::abs(model->height->config.initialHeight - session->model.height->config.initialHeight) <= kHeightRounding);
   }
-  const std::vector<double> a = sampleWaterHeights(*model, 9, 9), b = sampleWaterHeights(*session, 9, 9);
+  const std::vector<double> a = sampleWaterHeights(*model, 9, 9), b = sampleWaterHeights(session->model, 9, 9);
   REQUIRE(a.size() == b.size());
   for (size_t k = 0; k < a.size(); k++) CHECK(std::abs(a[k] - b[k]) <= kHeightRounding);
   const Camera& camera = dataset.split("test")[0].camera;
   for (WaterView water : {WaterView::Keep, WaterView::Remove}) {
-    RenderedView fromModel = renderView(*model, camera, water), fromSession = renderView(*session, camera, water);
+    RenderedView fromModel = renderView(*model, camera, water), fromSession = renderView(session->model, camera, water);
     CHECK(largestDifference(fromModel.image.pixels, fromSession.image.pixels) <= 1e-5);  // a wrong water: 0.02
     CHECK(fromModel.missed == fromSession.missed);
   }

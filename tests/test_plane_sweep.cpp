@@ -327,13 +327,13 @@ GPU_TEST_CASE("plane sweep: --init-depth sweep draws the first Gaussians onto th
   auto box = createTrainSession(ctx, c, d);
   c.initDepth = InitDepth::Sweep;
   auto swept = createTrainSession(ctx, c, d);
-  double fromBox = onScene(box->gaussians), fromSweep = onScene(swept->gaussians);
+  double fromBox = onScene(box->model.gaussians), fromSweep = onScene(swept->model.gaussians);
   // Measured on lavapipe: 0.98 swept (median 0.5 cm from the true top), about 0.27 drawn
   // uniformly in the box (the scene's 0.27 m of the box's 1 m).
-  MESSAGE("on the scene: " << fromSweep << " swept, " << fromBox << " from the box; cells with a depth " << swept->sweptCellFraction);
+  MESSAGE("on the scene: " << fromSweep << " swept, " << fromBox << " from the box; cells with a depth " << swept->log.sweptCellFraction);
   CHECK(fromSweep >= 0.9);
   CHECK(fromBox <= 0.5);
-  CHECK(swept->sweptCellFraction > 0.2);
+  CHECK(swept->log.sweptCellFraction > 0.2);
   trainStep(*swept);  // it trains
 
   CHECK(trainConfigToJson(c)["init_depth"] == "sweep");
@@ -354,9 +354,9 @@ GPU_TEST_CASE("plane sweep: the learned water is compared with the flat start, a
   auto ratioAt = [&](double initRange) {
     c.mlpInitRange = initRange;
     auto s = createTrainSession(ctx, c, d);
-    const std::vector<float> before = downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount);
+    const std::vector<float> before = downloadVector<float>(ctx, s->model.surface->gridHeights, s->model.surface->gridPointCount);
     SweepAgreement a = agreementWithFlatWater(*s);
-    CHECK(downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount) == before);
+    CHECK(downloadVector<float>(ctx, s->model.surface->gridHeights, s->model.surface->gridPointCount) == before);
     CHECK(a.cells > 100);
     return a.cost / a.reference;
   };

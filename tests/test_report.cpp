@@ -165,16 +165,16 @@ GPU_TEST_CASE("train: --density-loss weighs the density loss, 0 switches it off,
     TrainConfig c = base;
     c.densityLossWeight = weight;
     auto s = createTrainSession(ctx, c, d);  // same seed: same Gaussians, view and patch
-    size_t n = s->gaussians.count();
+    size_t n = s->model.gaussians.count();
     double squares = 0;
     for (size_t i = 0; i < n; i++) {
-      double sg = 1 / (1 + std::exp(-double(s->gaussians.at(i)[f32::kGaussLogitDensity])));
+      double sg = 1 / (1 + std::exp(-double(s->model.gaussians.at(i)[f32::kGaussLogitDensity])));
       squares += sg * sg;
     }
     StepResult r = trainStep(*s);
     // The loss reported is the image loss plus weight * mean(density^2) of the Gaussians stepped.
     CHECK(r.loss - r.imageLoss == doctest::Approx(weight * squares / double(n)).epsilon(1e-4).scale(1e-7));
-    for (size_t i = 0; i < n; i++) after[weight].push_back(s->gaussians.at(i)[f32::kGaussLogitDensity]);
+    for (size_t i = 0; i < n; i++) after[weight].push_back(s->model.gaussians.at(i)[f32::kGaussLogitDensity]);
   }
   // Adam's first step moves each logit by the learning rate against the sign of its gradient.
   // The density loss adds a positive term to every logit's gradient, so with it no density

@@ -303,7 +303,7 @@ GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterr
   fs::remove(checkpointPath(dir / "rewound", 40));
   auto rewound = createTrainSession(ctx, c, d);
   loadCheckpoint(*rewound, latestCheckpoint(dir / "rewound"));
-  REQUIRE(rewound->step == 20);
+  REQUIRE(rewound->model.step == 20);
   nlohmann::json again = trainToEnd(*rewound, dir / "rewound", quiet);
   REQUIRE(again["surface_watch"].size() == a["surface_watch"].size());
   for (size_t k = 0; k < a["surface_watch"].size(); k++) {
@@ -312,19 +312,19 @@ GPU_TEST_CASE("train: resuming from a mid-run checkpoint ends where the uninterr
   }
 
   auto first = createTrainSession(ctx, c, d);
-  while (first->step < 20) trainStep(*first);
+  while (first->model.step < 20) trainStep(*first);
   saveCheckpoint(*first, dir / "split");
   first.reset();
   auto second = createTrainSession(ctx, c, d);
   loadCheckpoint(*second, latestCheckpoint(dir / "split"));
-  CHECK(second->step == 20);
+  CHECK(second->model.step == 20);
   nlohmann::json b = trainToEnd(*second, dir / "split", quiet);
 
-  REQUIRE(whole->gaussians.params.size() == second->gaussians.params.size());
+  REQUIRE(whole->model.gaussians.params.size() == second->model.gaussians.params.size());
   double sumSquares = 0;
-  for (size_t i = 0; i < whole->gaussians.params.size(); i++)
-    sumSquares += std::pow(double(whole->gaussians.params[i]) - double(second->gaussians.params[i]), 2);
-  double rms = std::sqrt(sumSquares / double(whole->gaussians.params.size()));
+  for (size_t i = 0; i < whole->model.gaussians.params.size(); i++)
+    sumSquares += std::pow(double(whole->model.gaussians.params[i]) - double(second->model.gaussians.params[i]), 2);
+  double rms = std::sqrt(sumSquares / double(whole->model.gaussians.params.size()));
   MESSAGE("psnr " << a["psnr"] << " vs " << b["psnr"] << ", parameter difference RMS " << rms);
   CHECK(std::abs(a["psnr"].get<double>() - b["psnr"].get<double>()) <= kResumePsnrTolerance);
   CHECK(std::abs(a["ssim"].get<double>() - b["ssim"].get<double>()) <= 1e-3);
@@ -355,30 +355,30 @@ GPU_TEST_CASE("train: --restart-gaussians draws the Gaussians afresh at its step
   const float freshLogit = float(std::log(c.initialDensity / (1.0 - c.initialDensity)));
 
   auto whole = createTrainSession(ctx, c, d);
-  while (whole->step < 5) CHECK(!trainStep(*whole).restarted);
+  while (whole->model.step < 5) CHECK(!trainStep(*whole).restarted);
   saveCheckpoint(*whole, dir / "split");
-  const GaussianSet before = whole->gaussians;
-  std::vector<float> heightWeights = downloadVector<float>(ctx, whole->height->weights, whole->height->parameterCount);
+  const GaussianSet before = whole->model.gaussians;
+  std::vector<float> heightWeights = downloadVector<float>(ctx, whole->model.height->weights, whole->model.height->parameterCount);
   StepResult r = trainStep(*whole);
-  REQUIRE(whole->step == 6);
+  REQUIRE(whole->model.step == 6);
   CHECK(r.restarted);
   CHECK(r.gaussians == 300);
-  REQUIRE(whole->gaussians.count() == 300);
+  REQUIRE(whole->model.gaussians.count() == 300);
   // Fresh: every density back at its initial value, no Adam moments, schedules from their start.
   size_t notFresh = 0;
-  for (size_t i = 0; i < 300; i++) notFresh += whole->gaussians.at(i)[f32::kGaussLogitDensity] != freshLogit;
+  for (size_t i = 0; i < 300; i++) notFresh += whole->model.gaussians.at(i)[f32::kGaussLogitDensity] != freshLogit;
   CHECK(notFresh == 0);
-  CHECK(std::all_of(whole->gaussianAdam.m.begin(), whole->gaussianAdam.m.end(), [](float x) { return x == 0.0f; }));
-  CHECK(std::all_of(whole->gaussianAdam.v.begin(), whole->gaussianAdam.v.end(), [](float x) { return x == 0.0f; }));
-  for (const auto& g : whole->gaussianAdam.groups) CHECK(g.step == 0);
+  CHECK(std::all_of(whole->state.gaussianAdam.m.begin(), whole->state.gaussianAdam.m.end(), [](float x) { return x == 0.0f; }));
+  CHECK(std::all_of(whole->state.gaussianAdam.v.begin(), whole->state.gaussianAdam.v.end(), [](float x) { return x == 0.0f; }));
+  for (const auto& g : whole->state.gaussianAdam.groups) CHECK(g.step == 0);
   // New positions, not the trained ones with their densities reset.
   double moved = 0;
-  for (size_t i = 0; i < std::min(before.count(), whole->gaussians.count()); i++)
-    moved += std::abs(whole->gaussians.at(i)[f32::kGaussMean] - before.at(i)[f32::kGaussMean]);
+  for (size_t i = 0; i < std::min(before.count(), whole->model.gaussians.count()); i++)
+    moved += std::abs(whole->model.gaussians.at(i)[f32::kGaussMean] - before.at(i)[f32::kGaussMean]);
   CHECK(moved / 300.0 > 0.01);
   // The surface is kept: step 6 took one more surface update, which is small next to the
   // field's weights.
-  std::vector<float> after = downloadVector<float>(ctx, whole->height->weights, whole->height->parameterCount);
+  std::vector<float> after = downloadVector<float>(ctx, whole->model.height->weights, whole->model.height->parameterCount);
   double change = 0, norm = 0;
   for (size_t i = 0; i < after.size(); i++) change += std::pow(after[i] - heightWeights[i], 2), norm += std::pow(heightWeights[i], 2);
   CHECK(std::sqrt(change) < 0.05 * std::sqrt(norm));
@@ -387,13 +387,13 @@ GPU_TEST_CASE("train: --restart-gaussians draws the Gaussians afresh at its step
   // and goes on to the end.
   auto resumed = createTrainSession(ctx, c, d);
   loadCheckpoint(*resumed, latestCheckpoint(dir / "split"));
-  REQUIRE(resumed->step == 5);
+  REQUIRE(resumed->model.step == 5);
   CHECK(trainStep(*resumed).restarted);
-  CHECK(resumed->gaussians.params == whole->gaussians.params);
+  CHECK(resumed->model.gaussians.params == whole->model.gaussians.params);
   // The second restart, and no other.
-  while (resumed->step < c.steps) {
+  while (resumed->model.step < c.steps) {
     bool restarted = trainStep(*resumed).restarted;
-    CHECK(restarted == (resumed->step == 8));
+    CHECK(restarted == (resumed->model.step == 8));
   }
 
   // config.json keeps the steps; runs written with one step, or before the option, read as
@@ -604,21 +604,21 @@ GPU_TEST_CASE("train: a checkpoint in the middle of a --surface-batch sum resume
   c.surfaceLearningRate = 1e-2;
   c.surfaceBatch = 4;
   auto whole = createTrainSession(ctx, c, d);
-  while (whole->step < 10) trainStep(*whole);
+  while (whole->model.step < 10) trainStep(*whole);
 
   auto first = createTrainSession(ctx, c, d);
-  while (first->step < 6) trainStep(*first);  // two of step 8's four gradients summed
+  while (first->model.step < 6) trainStep(*first);  // two of step 8's four gradients summed
   saveCheckpoint(*first, dir / "split");
   first.reset();
   auto second = createTrainSession(ctx, c, d);
   loadCheckpoint(*second, latestCheckpoint(dir / "split"));
-  while (second->step < 10) trainStep(*second);
+  while (second->model.step < 10) trainStep(*second);
 
   // The same surface steps on the same sums: the weights agree up to the float-atomic sums'
   // order (1e-7 to 3e-5 here, the most with other work on the machine: Adam amplifies the
   // order's noise in the first steps). Without the sum in the checkpoint, step 8 loses two of
   // its four gradients and the weights move by about the learning rate (1.04-1.06e-2, planted).
-  std::vector<float> a = downloadWeights(ctx, *whole->height), b = downloadWeights(ctx, *second->height);
+  std::vector<float> a = downloadWeights(ctx, *whole->model.height), b = downloadWeights(ctx, *second->model.height);
   REQUIRE(a.size() == b.size());
   double most = 0;
   for (size_t i = 0; i < a.size(); i++) most = std::max(most, std::abs(double(a[i]) - b[i]));
@@ -832,9 +832,9 @@ double meanDensifyStatistic(Context& ctx, const std::string& data, uint32_t patc
   auto s = createTrainSession(ctx, c, d);
   for (int step = 0; step < steps; step++) trainStep(*s);
   double sum = 0, rays = 0;
-  for (size_t i = 0; i < s->gaussians.count(); i++) {
-    sum += s->densifyStats[2 * i];
-    rays += s->densifyStats[2 * i + 1];
+  for (size_t i = 0; i < s->model.gaussians.count(); i++) {
+    sum += s->state.densifyStats[2 * i];
+    rays += s->state.densifyStats[2 * i + 1];
   }
   REQUIRE(rays > 0);
   return sum / rays;
@@ -860,12 +860,12 @@ GPU_TEST_CASE("train: a step's loss holds the density regulariser of the table i
   auto s = createTrainSession(ctx, c, d);
   for (int step = 0; step < 3; step++) {
     double squares = 0;  // the regulariser of the table the step traces: weight * mean(sigmoid(logit)^2)
-    for (size_t i = 0; i < s->gaussians.count(); i++) {
-      const double density = 1 / (1 + std::exp(-double(s->gaussians.at(i)[f32::kGaussLogitDensity])));
+    for (size_t i = 0; i < s->model.gaussians.count(); i++) {
+      const double density = 1 / (1 + std::exp(-double(s->model.gaussians.at(i)[f32::kGaussLogitDensity])));
       squares += density * density;
     }
     const StepResult r = trainStep(*s);
-    CHECK(r.loss - r.imageLoss == doctest::Approx(c.densityLossWeight * squares / double(s->gaussians.count())).epsilon(1e-4));
+    CHECK(r.loss - r.imageLoss == doctest::Approx(c.densityLossWeight * squares / double(s->model.gaussians.count())).epsilon(1e-4));
   }
 }
 

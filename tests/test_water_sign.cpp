@@ -36,8 +36,8 @@ std::vector<float> domainGrid(const TrainConfig& c, int n) {
 // the mean squared error (a known surface without training through the views), and the
 // surface lifted from it.
 void fitHeightField(Context& ctx, TrainSession& s, const std::function<double(double, double)>& target) {
-  HeightField& hf = *s.height;
-  const std::vector<float> xy = domainGrid(s.config, 48);
+  HeightField& hf = *s.model.height;
+  const std::vector<float> xy = domainGrid(s.model.config, 48);
   const uint32_t n = uint32_t(xy.size() / 2);
   std::vector<float> targets(n);
   for (uint32_t k = 0; k < n; k++) targets[k] = float(target(xy[2 * k], xy[2 * k + 1]));
@@ -57,15 +57,15 @@ void fitHeightField(Context& ctx, TrainSession& s, const std::function<double(do
       cmdAdamStep(cb, pipelines, adam, hf.weights, grad, 0, true);
     });
   }
-  liftSurface(s);
+  liftSurface(s.model);
 }
 
 // Pearson correlation of the learned heights with `truth` on a 97 x 97 grid over the domain
 // (sampleWaterHeights: between the fit's points too).
 double correlationWith(TrainSession& s, const std::function<double(double, double)>& truth) {
   const uint32_t n = 97;
-  const std::vector<double> h = sampleWaterHeights(s, n, n);
-  const Rect& r = s.config.domain;
+  const std::vector<double> h = sampleWaterHeights(s.model, n, n);
+  const Rect& r = s.model.config.domain;
   std::vector<double> t(h.size());
   for (uint32_t j = 0; j < n; j++)
     for (uint32_t i = 0; i < n; i++) t[j * n + i] = truth(r.xMin + (r.xMax - r.xMin) * i / (n - 1), r.yMin + (r.yMax - r.yMin) * j / (n - 1));
@@ -104,14 +104,14 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
 
   SUBCASE("the mirror image is 2 level - H, and mirroring twice gives the weights back") {
     auto s = createTrainSession(ctx, c, d);
-    s->height->config.initialHeight = float(level + 0.01);  // as an anchored water's may be
-    const std::vector<double> before = sampleWaterHeights(*s, 24, 24);
-    const std::vector<float> weights = downloadWeights(ctx, *s->height);
-    mirrorHeightField(ctx, *s->height, level);
-    const std::vector<double> after = sampleWaterHeights(*s, 24, 24);
+    s->model.height->config.initialHeight = float(level + 0.01);  // as an anchored water's may be
+    const std::vector<double> before = sampleWaterHeights(s->model, 24, 24);
+    const std::vector<float> weights = downloadWeights(ctx, *s->model.height);
+    mirrorHeightField(ctx, *s->model.height, level);
+    const std::vector<double> after = sampleWaterHeights(s->model, 24, 24);
     for (size_t k = 0; k < before.size(); k++) CHECK(after[k] == doctest::Approx(2 * level - before[k]).epsilon(1e-6).scale(1e-6));
-    mirrorHeightField(ctx, *s->height, level);
-    CHECK(downloadWeights(ctx, *s->height) == weights);
+    mirrorHeightField(ctx, *s->model.height, level);
+    CHECK(downloadWeights(ctx, *s->model.height) == weights);
   }
 
   SUBCASE("the views agree more through the waves than through their mirror; at a restart the check keeps them, and turns "
@@ -120,23 +120,23 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
     auto s = createTrainSession(ctx, c, d);
     fitHeightField(ctx, *s, truth);
     REQUIRE(correlationWith(*s, truth) > 0.8);
-    const std::vector<float> weights = downloadWeights(ctx, *s->height);
-    const float initialHeight = s->height->config.initialHeight;
-    const std::vector<float> grid = downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount);
+    const std::vector<float> weights = downloadWeights(ctx, *s->model.height);
+    const float initialHeight = s->model.height->config.initialHeight;
+    const std::vector<float> grid = downloadVector<float>(ctx, s->model.surface->gridHeights, s->model.surface->gridPointCount);
     const SweepAgreement a = agreementOfMirror(*s);
     CHECK(a.cells > 1000);
     CHECK(a.cost > a.reference);
-    CHECK(downloadWeights(ctx, *s->height) == weights);  // the water as it was
-    CHECK(s->height->config.initialHeight == initialHeight);
-    CHECK(downloadVector<float>(ctx, s->surface->gridHeights, s->surface->gridPointCount) == grid);
+    CHECK(downloadWeights(ctx, *s->model.height) == weights);  // the water as it was
+    CHECK(s->model.height->config.initialHeight == initialHeight);
+    CHECK(downloadVector<float>(ctx, s->model.surface->gridHeights, s->model.surface->gridPointCount) == grid);
     CHECK(trainStep(*s).restarted);  // step 1
-    REQUIRE(s->signChecks.size() == 1);
-    CHECK(s->signChecks[0].step == 1);
-    CHECK_FALSE(s->signChecks[0].mirrored);
+    REQUIRE(s->log.signChecks.size() == 1);
+    CHECK(s->log.signChecks[0].step == 1);
+    CHECK_FALSE(s->log.signChecks[0].mirrored);
     // the check also records the learned water against flat water (agreementWithFlatWater, tested
     // in test_plane_sweep.cpp), but not which is better: this fitted field (300 Adam steps on a
     // 48 x 48 grid, correlation > 0.8 with the waves) reads 3.6x flat water's cost
-    const SweepAgreement& flat = s->signChecks[0].flat;
+    const SweepAgreement& flat = s->log.signChecks[0].flat;
     MESSAGE("the fitted waves' sweep cost: " << flat.cost / flat.reference << "x flat water's");
     CHECK(flat.cells > 1000);
     CHECK(flat.cost > 0);
@@ -146,11 +146,11 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
     fitHeightField(ctx, *inverted, upsideDown);
     REQUIRE(correlationWith(*inverted, truth) < -0.8);
     CHECK(trainStep(*inverted).restarted);
-    REQUIRE(inverted->signChecks.size() == 1);
-    const SweepAgreement& flip = inverted->signChecks[0].agreement;
+    REQUIRE(inverted->log.signChecks.size() == 1);
+    const SweepAgreement& flip = inverted->log.signChecks[0].agreement;
     MESSAGE("the mirror's sweep cost: " << a.cost / a.reference << "x the fitted waves', " << flip.cost / flip.reference
                                         << "x the waves fitted upside down");
-    CHECK(inverted->signChecks[0].mirrored);
+    CHECK(inverted->log.signChecks[0].mirrored);
     CHECK(correlationWith(*inverted, truth) > 0.8);
     trainStep(*inverted);  // it trains on
   }

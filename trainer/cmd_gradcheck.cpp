@@ -28,7 +28,7 @@ int runGradcheck(const cli::Args& args) {
   auto ctx = cli::openContext(args);
   auto session = openRun(*ctx, run);
   std::printf("%s at step %d: d = the backward's gradient (unit), slope = dL/dw . d, CD(h) = central difference at step h (ratio CD/slope), dH = largest height change at +h\n",
-              run.c_str(), session->step);
+              run.c_str(), session->model.step);
   nlohmann::json out = nlohmann::json::array();
   for (long b = 0; b < batches; b++) {
     StepBatch batch = nextStepBatch(*session);
@@ -43,7 +43,7 @@ int runGradcheck(const cli::Args& args) {
     }
     out.push_back(j);
   }
-  if (args.has("output")) writeJson(args.get("output"), nlohmann::json{{"run", run}, {"step", session->step}, {"batches", out}});
+  if (args.has("output")) writeJson(args.get("output"), nlohmann::json{{"run", run}, {"step", session->model.step}, {"batches", out}});
   return 0;
 }
 

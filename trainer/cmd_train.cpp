@@ -136,14 +136,14 @@ int runTrain(const cli::Args& args) {
       fail("--steps " + std::to_string(stored.steps) + " is below the step the run has reached (" + std::to_string(reached) + ", " + ckpt + ")");
     auto ctx = cli::openContext(args);
     auto session = openRun(*ctx, run);
-    session->config.steps = stored.steps;
-    session->config.progressEvery = stored.progressEvery;
-    session->config.evalEvery = stored.evalEvery;
-    session->config.checkpointEvery = stored.checkpointEvery;
-    writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->config));
-    std::fprintf(stderr, "resuming %s at step %d of %d\n", run.c_str(), session->step, session->config.steps);
+    session->model.config.steps = stored.steps;
+    session->model.config.progressEvery = stored.progressEvery;
+    session->model.config.evalEvery = stored.evalEvery;
+    session->model.config.checkpointEvery = stored.checkpointEvery;
+    writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->model.config));
+    std::fprintf(stderr, "resuming %s at step %d of %d\n", run.c_str(), session->model.step, session->model.config.steps);
     printSummary(trainToEnd(*session, run, progress));
-    if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->profiler).c_str());
+    if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->log.profiler).c_str());
     return 0;
   }
   if (args.positional.size() != 1) fail("refrax train needs one dataset folder");
@@ -163,14 +163,14 @@ int runTrain(const cli::Args& args) {
   auto ctx = cli::openContext(args);
   auto session = createTrainSession(*ctx, config, std::move(dataset));
   folder->keep();
-  writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->config));
+  writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->model.config));
   printModelSizing(config);  // once everything is checked: a refused run prints one line
-  const std::string atPoints = config.initPoints ? " (" + std::to_string(session->gaussiansAtPoints) + " at sparse points)" : "";
+  const std::string atPoints = config.initPoints ? " (" + std::to_string(session->log.gaussiansAtPoints) + " at sparse points)" : "";
   std::fprintf(stderr, "training %s (%s): %u Gaussians%s, %d steps, %zu training views -> %s\n", config.dataset.c_str(),
                waterModelName(config.model), config.initialGaussians, atPoints.c_str(), config.steps, session->dataset.split("train").size(),
                run.c_str());
   printSummary(trainToEnd(*session, run, progress));
-  if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->profiler).c_str());
+  if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->log.profiler).c_str());
   return 0;
 }
 

@@ -2,7 +2,7 @@
 // A model of a scene under water (docs/method.md §1): the Gaussians and their ray-tracing
 // proxies, the water, and the buffers that trace camera rays through both. This is what
 // `refrax render`, `refrax eval` and the viewer load from a run (engine/model/open_model.h),
-// and what a training session (engine/train/train_session.h) extends with its optimisers,
+// and what a training session (engine/train/train_session.h) holds beside its optimisers,
 // loss and batch buffers.
 //
 // The water, by config.model:
@@ -34,7 +34,7 @@ struct Model {
   Model() = default;
   Model(const Model&) = delete;
   Model& operator=(const Model&) = delete;
-  virtual ~Model() = default;
+  ~Model() = default;
 
   Context* ctx = nullptr;
   TrainConfig config;          // the run's resolved configuration (its config.json)

@@ -19,43 +19,47 @@ constexpr int kKept = 2;
 
 }  // namespace
 
-void saveCheckpoint(TrainSession& s, const std::string& runDir) {
+CheckpointContents checkpointContents(TrainSession& s) {
   pushWaterGradient(s);  // the water's pending gradient is saved as the parameters' (heightGrad, planeGrad)
-  Context& ctx = *s.ctx;
+  Context& ctx = *s.model.ctx;
   CheckpointContents c;
-  c.model = waterModelName(s.config.model);
-  c.step = int32_t(s.step);
-  c.trainingSeconds = s.trainingSeconds;
+  c.model = waterModelName(s.model.config.model);
+  c.step = int32_t(s.model.step);
+  c.trainingSeconds = s.model.trainingSeconds;
   std::ostringstream rng;
-  rng << s.rng;
+  rng << s.state.rng;
   c.rng = rng.str();
-  c.viewOrder = s.viewOrder;
-  c.viewCursor = s.viewCursor;
-  c.gaussians = s.gaussians.count();
-  c.params = s.gaussians.params;
-  c.adamM = s.gaussianAdam.m;
-  c.adamV = s.gaussianAdam.v;
-  for (const auto& g : s.gaussianAdam.groups) c.groupSteps.push_back(int32_t(g.step));
-  c.densifyStats = s.densifyStats;
-  c.heightCount = s.height ? s.height->parameterCount : 0;
-  if (s.height) {
-    c.heightWeights = downloadWeights(ctx, *s.height);
-    c.heightM = downloadVector<float>(ctx, s.heightAdam.m, c.heightCount);
-    c.heightV = downloadVector<float>(ctx, s.heightAdam.v, c.heightCount);
-    c.heightStep = int32_t(s.heightAdam.step);
-    c.heightGrad = downloadVector<float>(ctx, s.heightGrad, c.heightCount);
+  c.viewOrder = s.state.viewOrder;
+  c.viewCursor = s.state.viewCursor;
+  c.gaussians = s.model.gaussians.count();
+  c.params = s.model.gaussians.params;
+  c.adamM = s.state.gaussianAdam.m;
+  c.adamV = s.state.gaussianAdam.v;
+  for (const auto& g : s.state.gaussianAdam.groups) c.groupSteps.push_back(int32_t(g.step));
+  c.densifyStats = s.state.densifyStats;
+  c.heightCount = s.model.height ? s.model.height->parameterCount : 0;
+  if (s.model.height) {
+    c.heightWeights = downloadWeights(ctx, *s.model.height);
+    c.heightM = downloadVector<float>(ctx, s.water.heightAdam.m, c.heightCount);
+    c.heightV = downloadVector<float>(ctx, s.water.heightAdam.v, c.heightCount);
+    c.heightStep = int32_t(s.water.heightAdam.step);
+    c.heightGrad = downloadVector<float>(ctx, s.water.heightGrad, c.heightCount);
   }
-  c.planeHeight = s.planeHeight;
-  if (!s.planeAdam.m.empty()) {  // the flat-water model's Adam
-    c.planeM = s.planeAdam.m[0];
-    c.planeV = s.planeAdam.v[0];
-    c.planeStep = int32_t(s.planeAdam.groups[0].step);
+  c.planeHeight = s.model.planeHeight;
+  if (!s.water.planeAdam.m.empty()) {  // the flat-water model's Adam
+    c.planeM = s.water.planeAdam.m[0];
+    c.planeV = s.water.planeAdam.v[0];
+    c.planeStep = int32_t(s.water.planeAdam.groups[0].step);
   }
-  c.planeGrad = s.planeGrad;
-  const std::string bytes = encodeCheckpoint(c);
+  c.planeGrad = s.water.planeGrad;
+  return c;
+}
+
+void saveCheckpoint(TrainSession& s, const std::string& runDir) {
+  const std::string bytes = encodeCheckpoint(checkpointContents(s));
 
   std::filesystem::create_directories(std::filesystem::path(runDir) / "checkpoints");
-  writeFileAtomic(checkpointPath(runDir, s.step), bytes.data(), bytes.size());
+  writeFileAtomic(checkpointPath(runDir, s.model.step), bytes.data(), bytes.size());
   // Keep the newest kKept checkpoints.
   std::vector<int> steps;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(runDir) / "checkpoints")) {
@@ -66,36 +70,40 @@ void saveCheckpoint(TrainSession& s, const std::string& runDir) {
   for (size_t i = 0; i + kKept < steps.size(); i++) std::filesystem::remove(checkpointPath(runDir, steps[i]));
 }
 
-void loadCheckpoint(TrainSession& s, const std::string& path) {
-  CheckpointContents c = decodeCheckpoint(readFile(path), path, checkpointShapeFor(s, s.dataset));
+void restoreCheckpointContents(TrainSession& s, CheckpointContents c) {
+  // Read and checked before anything is installed: a bad RNG text leaves the session as it was.
   std::istringstream rng(c.rng);
   std::mt19937 restored;
   rng >> restored;
-
-  // Everything read and checked: install it. The model's parameters first (the Gaussians
-  // uploaded, the water lifted and anchored), then the training state.
-  installModelParameters(s, c, s.dataset.split("train"));
-  Context& ctx = *s.ctx;
-  s.rng = restored;
-  s.viewOrder = c.viewOrder;
-  s.viewCursor = c.viewCursor;
-  s.gaussianAdam.m = std::move(c.adamM);
-  s.gaussianAdam.v = std::move(c.adamV);
-  for (size_t g = 0; g < c.groupSteps.size(); g++) s.gaussianAdam.groups[g].step = c.groupSteps[g];
+  if (rng.fail()) fail("checkpoint: unreadable RNG state");
+  // The model's parameters first (the Gaussians uploaded, the water lifted and anchored), then
+  // the training state.
+  installModelParameters(s.model, c, s.dataset.split("train"));
+  Context& ctx = *s.model.ctx;
+  s.state.rng = restored;
+  s.state.viewOrder = std::move(c.viewOrder);
+  s.state.viewCursor = c.viewCursor;
+  s.state.gaussianAdam.m = std::move(c.adamM);
+  s.state.gaussianAdam.v = std::move(c.adamV);
+  for (size_t g = 0; g < c.groupSteps.size(); g++) s.state.gaussianAdam.groups[g].step = c.groupSteps[g];
   allocateGaussianBuffers(s);
-  s.densifyStats = std::move(c.densifyStats);
-  if (s.height) {
-    upload(ctx, s.heightAdam.m, c.heightM.data(), c.heightM.size() * 4);
-    upload(ctx, s.heightAdam.v, c.heightV.data(), c.heightV.size() * 4);
-    s.heightAdam.step = c.heightStep;
-    upload(ctx, s.heightGrad, c.heightGrad.data(), c.heightGrad.size() * 4);
+  s.state.densifyStats = std::move(c.densifyStats);
+  if (s.model.height) {
+    upload(ctx, s.water.heightAdam.m, c.heightM.data(), c.heightM.size() * 4);
+    upload(ctx, s.water.heightAdam.v, c.heightV.data(), c.heightV.size() * 4);
+    s.water.heightAdam.step = c.heightStep;
+    upload(ctx, s.water.heightGrad, c.heightGrad.data(), c.heightGrad.size() * 4);
   }
-  if (!s.planeAdam.m.empty()) {
-    s.planeAdam.m[0] = float(c.planeM);
-    s.planeAdam.v[0] = float(c.planeV);
-    s.planeAdam.groups[0].step = c.planeStep;
+  if (!s.water.planeAdam.m.empty()) {
+    s.water.planeAdam.m[0] = float(c.planeM);
+    s.water.planeAdam.v[0] = float(c.planeV);
+    s.water.planeAdam.groups[0].step = c.planeStep;
   }
-  s.planeGrad = c.planeGrad;
+  s.water.planeGrad = c.planeGrad;
+}
+
+void loadCheckpoint(TrainSession& s, const std::string& path) {
+  restoreCheckpointContents(s, decodeCheckpoint(readFile(path), path, checkpointShapeFor(s.model, s.dataset)));
 }
 
 }  // namespace refrax

@@ -11,12 +11,25 @@
 #include <string>
 
 #include "engine/run/checkpoint_files.h"
+#include "engine/run/checkpoint_format.h"
 #include "engine/train/train_session.h"
 
 namespace refrax {
 
+// Everything a checkpoint holds, in one struct (engine/run/checkpoint_format.h): the model's
+// parameters and the session's TrainingState and WaterLearning sums and moments. The water's
+// pending gradient is pushed into the parameters' sum first.
+CheckpointContents checkpointContents(TrainSession& session);
+// Installs them into a session created from the run's config.json, which then continues as
+// the saved one would. The contents come from decodeCheckpoint, which checked them against
+// this session's shape (checkpointShapeFor), or from checkpointContents of a session made
+// from the same config.
+void restoreCheckpointContents(TrainSession& session, CheckpointContents contents);
+
+// checkpointContents, encoded and written as RUN/checkpoints/step_NNNNNNN.ckpt.
 void saveCheckpoint(TrainSession& session, const std::string& runDir);
-// Restores a session created from the run's config.json.
+// Decoded (every check in decodeCheckpoint) and restored into a session created from the
+// run's config.json.
 void loadCheckpoint(TrainSession& session, const std::string& path);
 
 }  // namespace refrax

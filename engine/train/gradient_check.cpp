@@ -13,33 +13,33 @@ namespace {
 
 // The surface lifted from `weights`; returns the coarse grid's heights.
 std::vector<float> liftSurface(TrainSession& s, const std::vector<float>& weights) {
-  uploadWeights(*s.ctx, *s.height, weights);
-  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, *s.height); });
-  return downloadVector<float>(*s.ctx, s.surface->gridHeights, s.surface->gridPointCount);
+  uploadWeights(*s.model.ctx, *s.model.height, weights);
+  submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.model.surface, *s.model.height); });
+  return downloadVector<float>(*s.model.ctx, s.model.surface->gridHeights, s.model.surface->gridPointCount);
 }
 
 }  // namespace
 
 SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batch, std::vector<double> direction,
                                           const std::vector<double>& steps) {
-  if (!s.height || !s.surface) fail("the gradient check needs the learned water (the refraction model)");
-  Context& ctx = *s.ctx;
+  if (!s.model.height || !s.model.surface) fail("the gradient check needs the learned water (the refraction model)");
+  Context& ctx = *s.model.ctx;
   pushWaterGradient(s);  // the pending sum goes to heightGrad, which is kept and put back below
-  const TraceOptions opt = stepTraceOptions(s, batch, s.step + 1);
+  const TraceOptions opt = stepTraceOptions(s, batch, s.model.step + 1);
   SurfaceGradientCheck r;
   const BatchForward forward = forwardBatch(s, batch, opt);
   r.loss = forward.imageLoss;
   // The gradient summed since the last surface step (--surface-batch), put back at the end.
-  const std::vector<float> pendingSum = downloadVector<float>(ctx, s.heightGrad, s.height->parameterCount);
-  fillBuffer(ctx, s.grads, 0);
-  fillBuffer(ctx, s.stats, 0);
-  fillBuffer(ctx, s.heightGrad, 0);
+  const std::vector<float> pendingSum = downloadVector<float>(ctx, s.water.heightGrad, s.model.height->parameterCount);
+  fillBuffer(ctx, s.buffers.grads, 0);
+  fillBuffer(ctx, s.buffers.stats, 0);
+  fillBuffer(ctx, s.water.heightGrad, 0);
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     cmdBackwardBatch(cb, s, forward.context, true);
-    cmdPushSurfaceGradients(cb, *s.surface, heightSource(*s.height, s.heightGrad));
+    cmdPushSurfaceGradients(cb, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad));
   });
-  std::vector<float> gradient = downloadVector<float>(ctx, s.heightGrad, s.height->parameterCount);
-  const std::vector<GpuRayGrad> rayGrads = downloadVector<GpuRayGrad>(ctx, s.rayGrads, batch.rays());
+  std::vector<float> gradient = downloadVector<float>(ctx, s.water.heightGrad, s.model.height->parameterCount);
+  const std::vector<GpuRayGrad> rayGrads = downloadVector<GpuRayGrad>(ctx, s.buffers.rayGrads, batch.rays());
   for (float g : gradient) r.gradientNorm += double(g) * g;
   r.gradientNorm = std::sqrt(r.gradientNorm);
   if (direction.empty()) direction.assign(gradient.begin(), gradient.end());
@@ -55,8 +55,8 @@ SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batc
     r.slope += direction[i] * gradient[i];
   }
 
-  const std::vector<float> weights = downloadWeights(ctx, *s.height);
-  const std::vector<float> heights = downloadVector<float>(ctx, s.surface->gridHeights, s.surface->gridPointCount);
+  const std::vector<float> weights = downloadWeights(ctx, *s.model.height);
+  const std::vector<float> heights = downloadVector<float>(ctx, s.model.surface->gridHeights, s.model.surface->gridPointCount);
   auto lossAt = [&](double h, double* heightChange, std::vector<GpuRay>* rays) {
     std::vector<float> w(weights);
     for (size_t i = 0; i < w.size(); i++) w[i] = float(double(weights[i]) + h * direction[i]);
@@ -68,7 +68,7 @@ SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batc
           *heightChange = std::max(*heightChange, std::abs(double(lifted[k]) - heights[k]));
     }
     double loss = forwardBatch(s, batch, opt).imageLoss;
-    *rays = downloadVector<GpuRay>(ctx, s.refracted, batch.rays());
+    *rays = downloadVector<GpuRay>(ctx, s.model.refracted, batch.rays());
     return loss;
   };
   for (double h : steps) {
@@ -86,7 +86,7 @@ SurfaceGradientCheck checkSurfaceGradient(TrainSession& s, const StepBatch& batc
     r.heightChanges.push_back(change);
   }
   liftSurface(s, weights);
-  upload(ctx, s.heightGrad, pendingSum.data(), pendingSum.size() * 4);
+  upload(ctx, s.water.heightGrad, pendingSum.data(), pendingSum.size() * 4);
   return r;
 }
 

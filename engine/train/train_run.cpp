@@ -76,7 +76,7 @@ std::string evaluationsPath(const std::string& runDir) { return (std::filesystem
 std::string surfaceWatchPath(const std::string& runDir) { return (std::filesystem::path(runDir) / "surface_watch.json").string(); }
 
 // The learned water is watched for roughening (engine/surface/surface_watch.h) once it learns.
-bool watchesSurface(const TrainSession& s) { return s.config.model == WaterModel::Refraction && s.height && s.surface; }
+bool watchesSurface(const TrainSession& s) { return s.model.config.model == WaterModel::Refraction && s.model.height && s.model.surface; }
 
 // About a hundred samples a run, whatever its progress lines.
 int surfaceWatchInterval(const TrainConfig& c) { return std::max(1, c.steps / 100); }
@@ -116,7 +116,7 @@ std::string mirrorWarningLine(double mirrorRatio) {
 }
 
 // The line after a restart step's --water-sign-check.
-std::string signCheckLine(const TrainSession::SignCheck& c) {
+std::string signCheckLine(const WaterSignCheck& c) {
   char text[480];
   std::snprintf(text, sizeof text,
                 "step %d: the training views' plane-sweep colour variance through the learned water is %.3gx flat water's, "
@@ -140,7 +140,7 @@ std::vector<SurfaceWatchSample> readSurfaceWatch(const std::string& runDir, int 
 // One point of the accuracy-against-time curve: the metrics after `step`, and the wall time
 // spent in training steps up to it (evaluations themselves are not counted).
 nlohmann::json evaluationPoint(const TrainSession& s, const nlohmann::json& m) {
-  nlohmann::json e = {{"step", s.step}, {"seconds", s.trainingSeconds}, {"psnr", m["psnr"]}, {"ssim", m["ssim"]}};
+  nlohmann::json e = {{"step", s.model.step}, {"seconds", s.model.trainingSeconds}, {"psnr", m["psnr"]}, {"ssim", m["ssim"]}};
   if (m.contains("surface_rmse")) e["surface_rmse"] = m["surface_rmse"];
   return e;
 }
@@ -162,19 +162,19 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   namespace fs = std::filesystem;
   fs::path dir(runDir);
   fs::create_directories(dir / "renders");
-  writeGaussiansPly((dir / "point_cloud.ply").string(), s.gaussians);
-  if (s.config.model != WaterModel::NoRefraction) {
-    uint32_t n = s.config.gridCells + 1;
+  writeGaussiansPly((dir / "point_cloud.ply").string(), s.model.gaussians);
+  if (s.model.config.model != WaterModel::NoRefraction) {
+    uint32_t n = s.model.config.gridCells + 1;
     NpyArray a;
     a.shape = {n, n};
-    a.data = sampleWaterHeights(s, n, n);
+    a.data = sampleWaterHeights(s.model, n, n);
     writeNpy((dir / "water_height.npy").string(), a);
   }
-  if (s.height) saveHeightField((dir / "height_field.bin").string(), *s.ctx, *s.height);
-  nlohmann::json m = evaluateModel(s, s.dataset, (dir / "renders").string());
-  m["water_height_domain"] = {s.config.domain.xMin, s.config.domain.yMin, s.config.domain.xMax, s.config.domain.yMax};
-  if (s.config.model == WaterModel::FlatWater) m["flat_water_height"] = s.planeHeight;
-  nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
+  if (s.model.height) saveHeightField((dir / "height_field.bin").string(), *s.model.ctx, *s.model.height);
+  nlohmann::json m = evaluateModel(s.model, s.dataset, (dir / "renders").string());
+  m["water_height_domain"] = {s.model.config.domain.xMin, s.model.config.domain.yMin, s.model.config.domain.xMax, s.model.config.domain.yMax};
+  if (s.model.config.model == WaterModel::FlatWater) m["flat_water_height"] = s.model.planeHeight;
+  nlohmann::json evaluations = readEvaluations(runDir, s.model.step - 1);
   evaluations.push_back(evaluationPoint(s, m));
   m["evaluations"] = evaluations;
   if (watchesSurface(s)) {
@@ -192,7 +192,7 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
                                 {"warned", ratio > kAgreementWarning}};
       m["surface_sweep_ratio"] = ratio;  // the report's column
     }
-    if (s.height) {
+    if (s.model.height) {
       const SweepAgreement mirror = agreementOfMirror(s);
       if (mirror.cells > 0 && mirror.reference > 0 && m.contains("surface_agreement")) {
         m["surface_agreement"]["mirror_ratio"] = mirror.cost / mirror.reference;
@@ -200,88 +200,88 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
       }
     }
   }
-  if (!s.signChecks.empty()) {
+  if (!s.log.signChecks.empty()) {
     nlohmann::json checks = nlohmann::json::array();
-    for (const TrainSession::SignCheck& c : s.signChecks)
+    for (const WaterSignCheck& c : s.log.signChecks)
       checks.push_back({{"step", c.step}, {"learned_sweep_cost", c.agreement.reference}, {"mirror_sweep_cost", c.agreement.cost},
                         {"cells", c.agreement.cells}, {"flat_ratio", c.flat.reference > 0 ? c.flat.cost / c.flat.reference : 0.0},
                         {"mirrored", c.mirrored}});
     m["water_sign_checks"] = checks;  // this process's (a resumed run's start at its checkpoint)
   }
-  if (!s.surfaceWatch.empty()) {
-    m["surface_watch"] = surfaceWatchJson(s.surfaceWatch);
-    const RougheningVerdict verdict = judgeRoughening(s.surfaceWatch, s.config.schedule.surfaceFreeze + 1);
+  if (!s.log.surfaceWatch.empty()) {
+    m["surface_watch"] = surfaceWatchJson(s.log.surfaceWatch);
+    const RougheningVerdict verdict = judgeRoughening(s.log.surfaceWatch, s.model.config.schedule.surfaceFreeze + 1);
     m["surface_roughening"] = rougheningJson(verdict);
     if (verdict.judged) m["surface_roughened"] = verdict.roughening;  // the report's column
   }
-  if (s.profiler.steps > 0) m["profile"] = profileJson(s.profiler);
+  if (s.log.profiler.steps > 0) m["profile"] = profileJson(s.log.profiler);
   writeJson((dir / "metrics.json").string(), m);
   return m;
 }
 
 nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const TrainProgress& progress) {
-  const TrainConfig& c = s.config;
+  const TrainConfig& c = s.model.config;
   auto start = std::chrono::steady_clock::now();
-  int first = s.step;
+  int first = s.model.step;
   auto say = [&](const std::string& text) {
     if (progress.line) progress.line(text);
   };
-  const double startSeconds = s.trainingSeconds;
-  if (watchesSurface(s) && s.surfaceWatch.empty() && s.step > 0) s.surfaceWatch = readSurfaceWatch(runDir, s.step);
+  const double startSeconds = s.model.trainingSeconds;
+  if (watchesSurface(s) && s.log.surfaceWatch.empty() && s.model.step > 0) s.log.surfaceWatch = readSurfaceWatch(runDir, s.model.step);
   double watchLoss = 0;  // image loss summed since the last surface sample
   int watchSteps = 0;
-  while (s.step < c.steps) {
-    if (progress.timeLimitSeconds > 0 && s.trainingSeconds - startSeconds >= progress.timeLimitSeconds) {
-      say("stopping at step " + std::to_string(s.step) + " of " + std::to_string(c.steps) + ": the time limit (" +
+  while (s.model.step < c.steps) {
+    if (progress.timeLimitSeconds > 0 && s.model.trainingSeconds - startSeconds >= progress.timeLimitSeconds) {
+      say("stopping at step " + std::to_string(s.model.step) + " of " + std::to_string(c.steps) + ": the time limit (" +
           std::to_string(int(progress.timeLimitSeconds)) + " s of training) is reached; --resume continues");
       break;
     }
     auto stepStart = std::chrono::steady_clock::now();
-    attachProfiler(*s.ctx, s.profiler);
+    attachProfiler(*s.model.ctx, s.log.profiler);
     StepResult r = trainStep(s);
-    detachProfiler(*s.ctx);
-    profileStepEnd(s.profiler, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart).count());
+    detachProfiler(*s.model.ctx);
+    profileStepEnd(s.log.profiler, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart).count());
     if (r.restarted) {
-      std::string how = c.initDepth == InitDepth::Sweep ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.sweptCellFraction))) + "% of the cells" : "";
-      if (c.initPoints) how += ", " + std::to_string(s.gaussiansAtPoints) + " at sparse points";
-      if (!s.signChecks.empty() && s.signChecks.back().step == s.step) say(signCheckLine(s.signChecks.back()));
-      say("step " + std::to_string(s.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
+      std::string how = c.initDepth == InitDepth::Sweep ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.log.sweptCellFraction))) + "% of the cells" : "";
+      if (c.initPoints) how += ", " + std::to_string(s.log.gaussiansAtPoints) + " at sparse points";
+      if (!s.log.signChecks.empty() && s.log.signChecks.back().step == s.model.step) say(signCheckLine(s.log.signChecks.back()));
+      say("step " + std::to_string(s.model.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
     }
     watchLoss += r.imageLoss;
     watchSteps++;
-    if ((s.step % surfaceWatchInterval(c) == 0 || s.step == c.steps) && watchesSurface(s) && s.surfaceShapeMeasured) {
-      s.surfaceWatch.push_back({s.step, watchLoss / watchSteps, s.surfaceShape});
+    if ((s.model.step % surfaceWatchInterval(c) == 0 || s.model.step == c.steps) && watchesSurface(s) && s.log.surfaceShapeMeasured) {
+      s.log.surfaceWatch.push_back({s.model.step, watchLoss / watchSteps, s.log.surfaceShape});
       watchLoss = 0;
       watchSteps = 0;
     }
-    if (s.step % c.progressEvery == 0 || s.step == c.steps) {
+    if (s.model.step % c.progressEvery == 0 || s.model.step == c.steps) {
       double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      double rate = (s.step - first) / std::max(elapsed, 1e-9);
+      double rate = (s.model.step - first) / std::max(elapsed, 1e-9);
       char line[256];
-      std::snprintf(line, sizeof line, "step %6d/%d  loss %.5f  psnr %6.2f  gaussians %u  %.2f steps/s  eta %.0f s", s.step, c.steps, r.loss,
-                    r.psnr, r.gaussians, rate, (c.steps - s.step) / std::max(rate, 1e-9));
-      say(std::string(line) + (progress.profile ? "  | " + profileTop(s.profiler, 3) : ""));
+      std::snprintf(line, sizeof line, "step %6d/%d  loss %.5f  psnr %6.2f  gaussians %u  %.2f steps/s  eta %.0f s", s.model.step, c.steps, r.loss,
+                    r.psnr, r.gaussians, rate, (c.steps - s.model.step) / std::max(rate, 1e-9));
+      say(std::string(line) + (progress.profile ? "  | " + profileTop(s.log.profiler, 3) : ""));
     }
     // An evaluation traces the water and a checkpoint saves the gradient summed so far.
-    const bool evaluate = c.evalEvery > 0 && s.step % c.evalEvery == 0 && s.step < c.steps;
-    const bool checkpoint = c.checkpointEvery > 0 && s.step % c.checkpointEvery == 0;
+    const bool evaluate = c.evalEvery > 0 && s.model.step % c.evalEvery == 0 && s.model.step < c.steps;
+    const bool checkpoint = c.checkpointEvery > 0 && s.model.step % c.checkpointEvery == 0;
     if (evaluate || checkpoint) pushWaterGradient(s);
     if (evaluate) {
-      nlohmann::json m = evaluateModel(s, s.dataset, "");
+      nlohmann::json m = evaluateModel(s.model, s.dataset, "");
       // Kept on disk as it grows, so a resumed run's curve still starts at step 0.
-      nlohmann::json evaluations = readEvaluations(runDir, s.step - 1);
+      nlohmann::json evaluations = readEvaluations(runDir, s.model.step - 1);
       evaluations.push_back(evaluationPoint(s, m));
       writeJson(evaluationsPath(runDir), evaluations);
       char line[160];
-      std::snprintf(line, sizeof line, "eval step %d: test psnr %.3f ssim %.4f", s.step, m["psnr"].get<double>(), m["ssim"].get<double>());
+      std::snprintf(line, sizeof line, "eval step %d: test psnr %.3f ssim %.4f", s.model.step, m["psnr"].get<double>(), m["ssim"].get<double>());
       say(line);
     }
     if (checkpoint) saveCheckpoint(s, runDir);
-    if (checkpoint && !s.surfaceWatch.empty()) writeJson(surfaceWatchPath(runDir), surfaceWatchJson(s.surfaceWatch));
+    if (checkpoint && !s.log.surfaceWatch.empty()) writeJson(surfaceWatchPath(runDir), surfaceWatchJson(s.log.surfaceWatch));
   }
   pushWaterGradient(s);
-  if (latestCheckpoint(runDir) != checkpointPath(runDir, s.step)) saveCheckpoint(s, runDir);
-  if (!s.surfaceWatch.empty()) writeJson(surfaceWatchPath(runDir), surfaceWatchJson(s.surfaceWatch));
+  if (latestCheckpoint(runDir) != checkpointPath(runDir, s.model.step)) saveCheckpoint(s, runDir);
+  if (!s.log.surfaceWatch.empty()) writeJson(surfaceWatchPath(runDir), surfaceWatchJson(s.log.surfaceWatch));
   nlohmann::json m = writeRunOutputs(s, runDir);
   if (m.contains("surface_roughening") && m["surface_roughening"]["judged"].get<bool>())
     say(std::string(m["surface_roughening"]["roughening"].get<bool>() ? "warning: " : "") + m["surface_roughening"]["text"].get<std::string>());

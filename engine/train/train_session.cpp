@@ -30,15 +30,15 @@ constexpr int kProxyReorderInterval = 100;
 
 // The batch's buffers for up to n rays (the model's own: growModelRayCapacity).
 void allocateBatchBuffers(TrainSession& s, uint32_t n) {
-  Context& ctx = *s.ctx;
-  s.batchCapacity = n;
-  s.pixels = createBuffer(ctx, size_t(n) * 4);
-  s.rendered = createBuffer(ctx, size_t(n) * 12);
-  s.target = createBuffer(ctx, size_t(n) * 12);
-  s.pixelWeights = createBuffer(ctx, size_t(n) * 4);
-  s.lossGrad = createBuffer(ctx, size_t(n) * 12);
-  s.dLoss = createBuffer(ctx, size_t(n) * 16);
-  s.rayGrads = createBuffer(ctx, size_t(n) * sizeof(GpuRayGrad));
+  Context& ctx = *s.model.ctx;
+  s.buffers.capacity = n;
+  s.buffers.pixels = createBuffer(ctx, size_t(n) * 4);
+  s.buffers.rendered = createBuffer(ctx, size_t(n) * 12);
+  s.buffers.target = createBuffer(ctx, size_t(n) * 12);
+  s.buffers.pixelWeights = createBuffer(ctx, size_t(n) * 4);
+  s.buffers.lossGrad = createBuffer(ctx, size_t(n) * 12);
+  s.buffers.dLoss = createBuffer(ctx, size_t(n) * 16);
+  s.buffers.rayGrads = createBuffer(ctx, size_t(n) * sizeof(GpuRayGrad));
 }
 
 // The reference height-MLP schedule (5e-4 -> 5e-6) scaled to the configured start.
@@ -53,10 +53,10 @@ LearningRateSchedule surfaceLearningRate(const TrainConfig& c) {
 
 void shuffleViews(TrainSession& s) {
   size_t n = s.dataset.split("train").size();
-  s.viewOrder.resize(n);
-  for (size_t i = 0; i < n; i++) s.viewOrder[i] = uint32_t(i);
-  std::shuffle(s.viewOrder.begin(), s.viewOrder.end(), s.rng);
-  s.viewCursor = 0;
+  s.state.viewOrder.resize(n);
+  for (size_t i = 0; i < n; i++) s.state.viewOrder[i] = uint32_t(i);
+  std::shuffle(s.state.viewOrder.begin(), s.state.viewOrder.end(), s.state.rng);
+  s.state.viewCursor = 0;
 }
 
 // Over the pixels that count (weight 1; every pixel without weights), rgb per pixel.
@@ -74,34 +74,34 @@ double batchPsnr(const std::vector<float>& a, const std::vector<float>& b, const
 }  // namespace
 
 void allocateGaussianBuffers(TrainSession& s) {
-  size_t n = std::max<size_t>(1, s.gaussians.count());
-  s.grads = createBuffer(*s.ctx, n * kGaussianFloats * 4);
-  s.stats = createBuffer(*s.ctx, n * 2 * 4);
-  s.densityPartials = createBuffer(*s.ctx, size_t(densityPartialCount(uint32_t(n))) * 8);
-  if (!s.densityResult) s.densityResult = createBuffer(*s.ctx, 16);
+  size_t n = std::max<size_t>(1, s.model.gaussians.count());
+  s.buffers.grads = createBuffer(*s.model.ctx, n * kGaussianFloats * 4);
+  s.buffers.stats = createBuffer(*s.model.ctx, n * 2 * 4);
+  s.buffers.densityPartials = createBuffer(*s.model.ctx, size_t(densityPartialCount(uint32_t(n))) * 8);
+  if (!s.buffers.densityResult) s.buffers.densityResult = createBuffer(*s.model.ctx, 16);
 }
 
 void ensureRayCapacity(TrainSession& s, uint32_t n) {
-  if (n <= s.capacity && n <= s.batchCapacity) return;
+  if (n <= s.model.capacity && n <= s.buffers.capacity) return;
   pushWaterGradient(s);  // a larger model capacity creates the surface anew
-  growModelRayCapacity(s, n);
-  if (n > s.batchCapacity) allocateBatchBuffers(s, n);
+  growModelRayCapacity(s.model, n);
+  if (n > s.buffers.capacity) allocateBatchBuffers(s, n);
 }
 
 void syncGaussians(TrainSession& s, bool countChanged) {
-  validateGaussians(s.gaussians, "training");
+  validateGaussians(s.model.gaussians, "training");
   if (countChanged) {
-    uploadModelGaussians(s);
+    uploadModelGaussians(s.model);
     allocateGaussianBuffers(s);
     return;
   }
-  updateGaussians(*s.ctx, s.device, s.gaussians);
+  updateGaussians(*s.model.ctx, s.model.device, s.model.gaussians);
   // Checkpoint steps reorder too, so a resumed run starts from the same proxy order.
-  bool reorder = s.step % kProxyReorderInterval == 0 || (s.config.checkpointEvery > 0 && s.step % s.config.checkpointEvery == 0);
+  bool reorder = s.model.step % kProxyReorderInterval == 0 || (s.model.config.checkpointEvery > 0 && s.model.step % s.model.config.checkpointEvery == 0);
   if (reorder)
-    s.proxies = buildGaussianProxies(*s.ctx, s.tracer, s.device, s.gaussians, s.proxyKind, true);
+    s.model.proxies = buildGaussianProxies(*s.model.ctx, s.model.tracer, s.model.device, s.model.gaussians, s.model.proxyKind, true);
   else
-    updateGaussianProxies(*s.ctx, s.tracer, s.proxies, s.device, false);
+    updateGaussianProxies(*s.model.ctx, s.model.tracer, s.model.proxies, s.model.device, false);
 }
 
 namespace {
@@ -118,13 +118,13 @@ std::vector<SweepView> sweepViews(TrainSession& s, const HeightSource& heights, 
     const View& v = train[k];
     uint32_t n = uint32_t(v.camera.width * v.camera.height);
     ensureRayCapacity(s, n);
-    submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.rayPipelines, v.camera, s.rays, 0.0f, 1e6f); });
-    if (s.surface) traceSurface(*s.ctx, *s.surface, heights, s.rays, n, s.refracted, s.records);
-    views.push_back({downloadVector<GpuRay>(*s.ctx, s.surface ? s.refracted : s.rays, n), &v.image});
+    submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.model.rayPipelines, v.camera, s.model.rays, 0.0f, 1e6f); });
+    if (s.model.surface) traceSurface(*s.model.ctx, *s.model.surface, heights, s.model.rays, n, s.model.refracted, s.model.records);
+    views.push_back({downloadVector<GpuRay>(*s.model.ctx, s.model.surface ? s.model.refracted : s.model.rays, n), &v.image});
   }
   return views;
 }
-std::vector<SweepView> sweepViews(TrainSession& s) { return s.surface ? sweepViews(s, currentHeightSource(s)) : sweepViews(s, HeightSource{}); }
+std::vector<SweepView> sweepViews(TrainSession& s) { return s.model.surface ? sweepViews(s, currentHeightSource(s.model)) : sweepViews(s, HeightSource{}); }
 
 // The plane sweep over the Gaussians' box.
 PlaneSweepConfig boxSweepConfig(const TrainConfig& c) {
@@ -148,44 +148,44 @@ PlaneSweepConfig boxSweepConfig(const TrainConfig& c) {
 // --init-depth sweep draws their depths from a plane sweep of the training views through the
 // water as it is now (flat at step 0, learned at a restart).
 void drawGaussians(TrainSession& s) {
-  const TrainConfig& c = s.config;
+  const TrainConfig& c = s.model.config;
   if (!c.gaussiansFrom.empty()) {
-    s.gaussians = readGaussiansPly(c.gaussiansFrom);
-    if (s.gaussians.count() != c.initialGaussians)
-      fail("--gaussians-from " + c.gaussiansFrom + " now holds " + std::to_string(s.gaussians.count()) + " Gaussians, the run started from " +
+    s.model.gaussians = readGaussiansPly(c.gaussiansFrom);
+    if (s.model.gaussians.count() != c.initialGaussians)
+      fail("--gaussians-from " + c.gaussiansFrom + " now holds " + std::to_string(s.model.gaussians.count()) + " Gaussians, the run started from " +
            std::to_string(c.initialGaussians));
-    validateGaussians(s.gaussians, c.gaussiansFrom.c_str());
-    s.gaussiansAtPoints = 0;
-    s.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.gaussians.count());
-    s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
+    validateGaussians(s.model.gaussians, c.gaussiansFrom.c_str());
+    s.log.gaussiansAtPoints = 0;
+    s.state.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.model.gaussians.count());
+    s.state.densifyStats.assign(s.model.gaussians.count() * 2, 0.0f);
     return;
   }
   GaussianSet atPoints;
-  s.gaussiansAtPoints = 0;
+  s.log.gaussiansAtPoints = 0;
   if (c.initPoints)
-    atPoints = initialGaussiansAtPoints(s.rng, c.initialGaussians, s.dataset.points, c.waterHeight, c.ior, c.boxMin, c.boxMax,
-                                        c.initialDensity, s.gaussiansAtPoints);
-  const size_t rest = c.initialGaussians - s.gaussiansAtPoints;
+    atPoints = initialGaussiansAtPoints(s.state.rng, c.initialGaussians, s.dataset.points, c.waterHeight, c.ior, c.boxMin, c.boxMax,
+                                        c.initialDensity, s.log.gaussiansAtPoints);
+  const size_t rest = c.initialGaussians - s.log.gaussiansAtPoints;
   if (rest == 0) {
-    s.gaussians = std::move(atPoints);
+    s.model.gaussians = std::move(atPoints);
   } else if (c.initDepth == InitDepth::Sweep) {
     DepthMap depth = planeSweepDepth(sweepViews(s), boxSweepConfig(c));
     size_t known = 0;
     for (double z : depth.z) known += std::isfinite(z) ? 1 : 0;
-    s.sweptCellFraction = double(known) / double(std::max<size_t>(1, depth.z.size()));
-    s.gaussians = initialGaussiansOnDepth(s.rng, rest, c.boxMin, c.boxMax, c.initialDensity, depth);
+    s.log.sweptCellFraction = double(known) / double(std::max<size_t>(1, depth.z.size()));
+    s.model.gaussians = initialGaussiansOnDepth(s.state.rng, rest, c.boxMin, c.boxMax, c.initialDensity, depth);
   } else {
-    s.gaussians = initialGaussians(s.rng, rest, c.boxMin, c.boxMax, c.initialDensity);
+    s.model.gaussians = initialGaussians(s.state.rng, rest, c.boxMin, c.boxMax, c.initialDensity);
   }
-  if (rest > 0) s.gaussians.params.insert(s.gaussians.params.begin(), atPoints.params.begin(), atPoints.params.end());
-  s.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.gaussians.count());
-  s.densifyStats.assign(s.gaussians.count() * 2, 0.0f);
+  if (rest > 0) s.model.gaussians.params.insert(s.model.gaussians.params.begin(), atPoints.params.begin(), atPoints.params.end());
+  s.state.gaussianAdam = createGaussianAdam(c.extent, c.schedule.lrSteps, s.model.gaussians.count());
+  s.state.densifyStats.assign(s.model.gaussians.count() * 2, 0.0f);
 }
 
 // --surface-until N ends the water's learning with its last surface step at or before N, so
 // no step after it adds to a sum that no surface step would apply (0: never ends).
 int lastWaterStep(const TrainSession& s) {
-  const int freeze = s.config.schedule.surfaceFreeze, until = s.config.schedule.surfaceUntil;
+  const int freeze = s.model.config.schedule.surfaceFreeze, until = s.model.config.schedule.surfaceUntil;
   if (until == 0) return std::numeric_limits<int>::max();
   return freeze + (until - freeze) / surfaceBatchSteps(s) * surfaceBatchSteps(s);
 }
@@ -196,9 +196,9 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   validateTrainConfig(config);
   auto s = std::make_unique<TrainSession>();
   // The model: tracer, ray buffers, the water in its initial state lifted into the surface.
-  initModel(*s, ctx, config, dataset);
+  initModel(s->model, ctx, config, dataset);
   s->dataset = std::move(dataset);
-  s->rng.seed(uint32_t(config.seed * 2654435761u + 17u));
+  s->state.rng.seed(uint32_t(config.seed * 2654435761u + 17u));
   DensifyConfig& dc = s->densifyConfig;
   const ScheduleSteps& k = config.schedule;
   // 3DGS measures "large" against the cameras' spread; cameras close together over a wide
@@ -234,34 +234,34 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   validateDensifyConfig(dc);
   s->mcmcConfig.maxGaussians = config.maxGaussians;
   validateMcmcConfig(s->mcmcConfig);
-  if (s->surface && lastWaterStep(*s) <= k.surfaceFreeze)
+  if (s->model.surface && lastWaterStep(*s) <= k.surfaceFreeze)
     fail("--surface-until " + std::to_string(k.surfaceUntil) + " leaves the surface no step: it learns after --surface-freeze (" +
          std::to_string(k.surfaceFreeze) + ") once every " + std::to_string(surfaceBatchSteps(*s)) + " steps (--surface-batch)");
 
-  allocateBatchBuffers(*s, s->capacity);
-  s->lossPipelines = createLossPipelines(ctx);
-  s->copyPipeline = createStridedCopyPipeline(ctx);
-  s->lossResult = createBuffer(ctx, 16);
-  s->adamPipelines = createAdamPipelines(ctx);
-  if (s->height) {
+  allocateBatchBuffers(*s, s->model.capacity);
+  s->buffers.lossPipelines = createLossPipelines(ctx);
+  s->buffers.copyPipeline = createStridedCopyPipeline(ctx);
+  s->buffers.lossResult = createBuffer(ctx, 16);
+  s->water.adamPipelines = createAdamPipelines(ctx);
+  if (s->model.height) {
     // Lavapipe builds a pipeline at its first dispatch (a second or more for the MLP's
     // backward, even from Mesa's disk cache): here, not inside the first surface step.
-    warmUpHeightField(*s->height);
-    s->heightAdam = createAdamGroup(ctx, "height_mlp", surfaceLearningRate(config), 1, uint32_t(s->height->parameterCount));
-    s->heightGrad = createBuffer(ctx, s->height->parameterCount * 4);
-    fillBuffer(ctx, s->heightGrad, 0);
+    warmUpHeightField(*s->model.height);
+    s->water.heightAdam = createAdamGroup(ctx, "height_mlp", surfaceLearningRate(config), 1, uint32_t(s->model.height->parameterCount));
+    s->water.heightGrad = createBuffer(ctx, s->model.height->parameterCount * 4);
+    fillBuffer(ctx, s->water.heightGrad, 0);
   }
   if (config.model == WaterModel::FlatWater) {
     AdamColumns height;
     height.name = "water_height";
     height.width = 1;
     height.lr = surfaceLearningRate(config);
-    s->planeAdam = createTableAdam(1, {height}, 1);
+    s->water.planeAdam = createTableAdam(1, {height}, 1);
   }
   // After the water: the plane sweep (--init-depth sweep) looks through it. Nothing above
-  // draws from s->rng, so the box's draw is what it was before the sweep existed.
+  // draws from s->state.rng, so the box's draw is what it was before the sweep existed.
   drawGaussians(*s);
-  uploadModelGaussians(*s);
+  uploadModelGaussians(s->model);
   allocateGaussianBuffers(*s);
   shuffleViews(*s);
   return s;
@@ -272,12 +272,12 @@ namespace {
 // dL/d(plane height): every lattice height is the one plane height, so the derivative is
 // the sum of dL/dheight over every lattice point the backward touched.
 double planeHeightGradient(TrainSession& s) {
-  WaterSurface& ws = *s.surface;
-  SurfaceCounters c = readSurfaceCounters(*s.ctx, ws);
+  WaterSurface& ws = *s.model.surface;
+  SurfaceCounters c = readSurfaceCounters(*s.model.ctx, ws);
   double sum = 0;
-  for (float g : downloadVector<float>(*s.ctx, ws.gridGrad, ws.gridPointCount))
+  for (float g : downloadVector<float>(*s.model.ctx, ws.gridGrad, ws.gridPointCount))
     if (std::isfinite(g)) sum += g;
-  for (float g : downloadVector<float>(*s.ctx, ws.pointGrad, c.points))
+  for (float g : downloadVector<float>(*s.model.ctx, ws.pointGrad, c.points))
     if (std::isfinite(g)) sum += g;
   return sum;
 }
@@ -285,30 +285,30 @@ double planeHeightGradient(TrainSession& s) {
 // viewWeights over the training views, computed once per surface grid (the anchor, the level
 // prior and the divergence check weigh the water by how many training views see it).
 const std::vector<double>& trainViewWeights(TrainSession& s) {
-  if (s.anchorWeights.size() != s.surface->gridPointCount) s.anchorWeights = viewWeights(s, s.dataset.split("train"));
-  return s.anchorWeights;
+  if (s.water.viewWeights.size() != s.model.surface->gridPointCount) s.water.viewWeights = viewWeights(s.model, s.dataset.split("train"));
+  return s.water.viewWeights;
 }
 
 void planeAdamStep(TrainSession& s, double grad) {
-  std::vector<float> height{float(s.planeHeight)};
-  tableAdamStep(s.planeAdam, height, {float(grad)});
-  s.planeHeight = height[0];
-  s.plane.waves.base = height[0];
+  std::vector<float> height{float(s.model.planeHeight)};
+  tableAdamStep(s.water.planeAdam, height, {float(grad)});
+  s.model.planeHeight = height[0];
+  s.model.plane.waves.base = height[0];
 }
 
 }  // namespace
 
 void anchorMeanHeight(TrainSession& s) {
-  if (!s.config.anchorMeanHeight || !s.height || !s.surface) return;
-  anchorMeanHeight(static_cast<Model&>(s), trainViewWeights(s));
+  if (!s.model.config.anchorMeanHeight || !s.model.height || !s.model.surface) return;
+  anchorMeanHeight(s.model, trainViewWeights(s));
 }
 
 namespace {
 
 // Where the surface's coarse grid vertices lie in its gridHeights.
 GridLayout coarseGridLayout(const TrainSession& s) {
-  const WaterSurface& ws = *s.surface;
-  const Rect& d = s.config.domain;
+  const WaterSurface& ws = *s.model.surface;
+  const Rect& d = s.model.config.domain;
   GridLayout g;
   g.cellsX = ws.cellsX;
   g.cellsY = ws.cellsY;
@@ -322,57 +322,57 @@ GridLayout coarseGridLayout(const TrainSession& s) {
 // The priors (--surface-smoothness, --level-prior) of the surface as lifted now: their energy
 // and dE/dheight at the coarse grid's vertices, kept in the session until the heights change.
 void computeSurfacePrior(TrainSession& s) {
-  WaterSurface& ws = *s.surface;
+  WaterSurface& ws = *s.model.surface;
   const GridLayout g = coarseGridLayout(s);
-  std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
-  s.priorGrad.assign(heights.size(), 0.0f);
-  s.priorEnergy = 0;
-  if (s.config.surfaceSmoothness > 0) s.priorEnergy += slopePrior(heights, g, s.config.surfaceSmoothness, &s.priorGrad);
-  if (s.config.levelPrior > 0) {
-    s.priorEnergy += levelPrior(heights, g, trainViewWeights(s), s.config.levelPrior, &s.priorGrad);
+  std::vector<float> heights = downloadVector<float>(*s.model.ctx, ws.gridHeights, ws.gridPointCount);
+  s.water.priorGrad.assign(heights.size(), 0.0f);
+  s.water.priorEnergy = 0;
+  if (s.model.config.surfaceSmoothness > 0) s.water.priorEnergy += slopePrior(heights, g, s.model.config.surfaceSmoothness, &s.water.priorGrad);
+  if (s.model.config.levelPrior > 0) {
+    s.water.priorEnergy += levelPrior(heights, g, trainViewWeights(s), s.model.config.levelPrior, &s.water.priorGrad);
   }
-  s.priorHeightsVersion = ws.heightsVersion;
+  s.water.priorHeightsVersion = ws.heightsVersion;
 }
 
-bool priorOn(const TrainSession& s) { return s.height && s.surface && (s.config.surfaceSmoothness > 0 || s.config.levelPrior > 0); }
+bool priorOn(const TrainSession& s) { return s.model.height && s.model.surface && (s.model.config.surfaceSmoothness > 0 || s.model.config.levelPrior > 0); }
 // The priors of the surface as it is now (computed once per lift).
 void ensureSurfacePrior(TrainSession& s) {
-  if (s.priorHeightsVersion != s.surface->heightsVersion) computeSurfacePrior(s);
+  if (s.water.priorHeightsVersion != s.model.surface->heightsVersion) computeSurfacePrior(s);
 }
 
 void applyDensitySchedule(TrainSession& s, int t) {
-  if (densityDecayDue(s.densifyConfig, uint32_t(t))) densityDecay(s.gaussians, s.densifyConfig);
+  if (densityDecayDue(s.densifyConfig, uint32_t(t))) densityDecay(s.model.gaussians, s.densifyConfig);
   if (densityResetDue(s.densifyConfig, uint32_t(t))) {
-    densityReset(s.gaussians, s.densifyConfig);
-    resetAdamColumns(s.gaussianAdam, "density");
+    densityReset(s.model.gaussians, s.densifyConfig);
+    resetAdamColumns(s.state.gaussianAdam, "density");
   }
 }
 
 }  // namespace
 
-int surfaceBatchSteps(const TrainSession& s) { return surfaceBatchSteps(s.config, s.dataset.split("train").size()); }
+int surfaceBatchSteps(const TrainSession& s) { return surfaceBatchSteps(s.model.config, s.dataset.split("train").size()); }
 
 StepBatch nextStepBatch(TrainSession& s) {
   const auto& trainViews = s.dataset.split("train");
-  if (s.viewCursor >= s.viewOrder.size()) shuffleViews(s);
+  if (s.state.viewCursor >= s.state.viewOrder.size()) shuffleViews(s);
   StepBatch b;
-  b.view = s.viewOrder[s.viewCursor++];
+  b.view = s.state.viewOrder[s.state.viewCursor++];
   const Camera& cam = trainViews[b.view].camera;
   b.width = uint32_t(cam.width);
   b.height = uint32_t(cam.height);
-  const uint32_t p = s.config.patch;
+  const uint32_t p = s.model.config.patch;
   b.patch = p > 0 && (p < b.width || p < b.height);
   if (b.patch) {
     b.width = std::min(p, b.width);
     b.height = std::min(p, b.height);
-    b.x0 = uint32_t(s.rng() % (uint32_t(cam.width) - b.width + 1));
-    b.y0 = uint32_t(s.rng() % (uint32_t(cam.height) - b.height + 1));
+    b.x0 = uint32_t(s.state.rng() % (uint32_t(cam.width) - b.width + 1));
+    b.y0 = uint32_t(s.state.rng() % (uint32_t(cam.height) - b.height + 1));
   }
   return b;
 }
 
 TraceOptions stepTraceOptions(TrainSession& s, const StepBatch& b, int t) {
-  const TrainConfig& c = s.config;
+  const TrainConfig& c = s.model.config;
   TraceOptions opt;
   for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(c.datasetOptions.background[ch]);
   opt.shDegree = shDegreeAt(c, t);
@@ -380,22 +380,22 @@ TraceOptions stepTraceOptions(TrainSession& s, const StepBatch& b, int t) {
   opt.statisticsViewpoint = glm::vec3(s.dataset.split("train")[b.view].camera.cameraToWorld[3]);
   if (c.hitRecordsPerRay > 0) {
     // sized by the rays of a step (a patch, not the largest image): 8 bytes per record
-    if (s.hitRecords.rays < b.rays()) s.hitRecords = createHitRecords(*s.ctx, b.rays(), c.hitRecordsPerRay);
-    opt.hitRecords = &s.hitRecords;
+    if (s.buffers.hitRecords.rays < b.rays()) s.buffers.hitRecords = createHitRecords(*s.model.ctx, b.rays(), c.hitRecordsPerRay);
+    opt.hitRecords = &s.buffers.hitRecords;
   }
-  if (s.surface) s.surface->config.faceNormals = t <= c.schedule.faceNormalsUntil;
+  if (s.model.surface) s.model.surface->config.faceNormals = t <= c.schedule.faceNormalsUntil;
   return opt;
 }
 
 BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOptions& opt,
                           const std::function<void(VkCommandBuffer, const BatchContext&)>& then) {
-  Context& ctx = *s.ctx;
+  Context& ctx = *s.model.ctx;
   const View& view = s.dataset.split("train")[b.view];
   const Camera& cam = view.camera;
   const uint32_t n = b.rays();
   ensureRayCapacity(s, n);
   BatchForward f;
-  f.context = {b, opt, &s.rays, s.surface ? &s.refracted : &s.rays, &s.results, &s.dLoss, s.surface ? &s.records : nullptr};
+  f.context = {b, opt, &s.model.rays, s.model.surface ? &s.model.refracted : &s.model.rays, &s.model.results, &s.buffers.dLoss, s.model.surface ? &s.model.records : nullptr};
   f.target.resize(size_t(n) * 3);
   // A masked view: its target and its rendering both times the mask, and the loss's gradient
   // too (the SSIM window reaches across the mask's edge), so the pixels that do not count add
@@ -412,57 +412,57 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
       if (masked) f.weight[i] = w;
       for (int ch = 0; ch < 3; ch++) f.target[3 * i + ch] = w * view.image.at(int(b.x0 + x), int(b.y0 + y), ch);
     }
-  upload(ctx, s.target, f.target.data(), f.target.size() * 4);
-  if (masked) upload(ctx, s.pixelWeights, f.weight.data(), f.weight.size() * 4);
-  const Buffer* weights = masked ? &s.pixelWeights : nullptr;
-  if (b.patch) upload(ctx, s.pixels, pixelList.data(), pixelList.size() * 4);
+  upload(ctx, s.buffers.target, f.target.data(), f.target.size() * 4);
+  if (masked) upload(ctx, s.buffers.pixelWeights, f.weight.data(), f.weight.size() * 4);
+  const Buffer* weights = masked ? &s.buffers.pixelWeights : nullptr;
+  if (b.patch) upload(ctx, s.buffers.pixels, pixelList.data(), pixelList.size() * 4);
 
-  prepareImageLossScratch(ctx, s.lossScratch, b.width, b.height, 3);
+  prepareImageLossScratch(ctx, s.buffers.lossScratch, b.width, b.height, 3);
 
   // One submission from the camera rays to the loss's gradient (and `then`), the surface
   // trace's level submissions in between: the stages hand their buffers on on the device.
   auto cameraRays = [&](VkCommandBuffer cb) {
     if (b.patch)
-      cmdCameraRaysForPixels(cb, s.rayPipelines, cam, s.pixels, n, s.rays, 0.0f, 1e6f);
+      cmdCameraRaysForPixels(cb, s.model.rayPipelines, cam, s.buffers.pixels, n, s.model.rays, 0.0f, 1e6f);
     else
-      cmdCameraRays(cb, s.rayPipelines, cam, s.rays, 0.0f, 1e6f);
+      cmdCameraRays(cb, s.model.rayPipelines, cam, s.model.rays, 0.0f, 1e6f);
     profileStage(cb, ctx, "camera rays");
   };
   auto gaussiansAndLoss = [&](VkCommandBuffer cb) {
     cmdBarrier(cb);
-    cmdTraceForward(cb, s.tracer, s.proxies, s.device, s.surface ? s.refracted : s.rays, s.results, n, opt);
+    cmdTraceForward(cb, s.model.tracer, s.model.proxies, s.model.device, s.model.surface ? s.model.refracted : s.model.rays, s.model.results, n, opt);
     profileStage(cb, ctx, "gaussian forward");
     cmdBarrier(cb);
-    cmdCopyStrided(cb, s.copyPipeline, s.results, {kTraceResultFloats, 0}, s.rendered, {3, 0}, 3, n, weights);
-    cmdImageLoss(cb, s.lossPipelines, s.lossScratch, s.rendered, s.target, s.lossGrad, s.lossResult);
+    cmdCopyStrided(cb, s.buffers.copyPipeline, s.model.results, {kTraceResultFloats, 0}, s.buffers.rendered, {3, 0}, 3, n, weights);
+    cmdImageLoss(cb, s.buffers.lossPipelines, s.buffers.lossScratch, s.buffers.rendered, s.buffers.target, s.buffers.lossGrad, s.buffers.lossResult);
     cmdBarrier(cb);
     // dL/d(rgb, opacity): the opacity's stays 0, the background is part of rgb
-    cmdCopyStrided(cb, s.copyPipeline, s.lossGrad, {3, 0}, s.dLoss, {4, 0}, 3, n, weights);
+    cmdCopyStrided(cb, s.buffers.copyPipeline, s.buffers.lossGrad, {3, 0}, s.buffers.dLoss, {4, 0}, 3, n, weights);
     cmdBarrier(cb);
     profileStage(cb, ctx, "loss");
     if (then) then(cb, f.context);
   };
-  if (s.surface) {
-    if (!surfaceCacheHasRoom(*s.surface, n)) pushWaterGradient(s);
-    traceSurface(ctx, *s.surface, currentHeightSource(s), s.rays, n, s.refracted, s.records, nullptr, {cameraRays, gaussiansAndLoss});
+  if (s.model.surface) {
+    if (!surfaceCacheHasRoom(*s.model.surface, n)) pushWaterGradient(s);
+    traceSurface(ctx, *s.model.surface, currentHeightSource(s.model), s.model.rays, n, s.model.refracted, s.model.records, nullptr, {cameraRays, gaussiansAndLoss});
   } else {
     submitAndWait(ctx, [&](VkCommandBuffer cb) {
       cameraRays(cb);
       gaussiansAndLoss(cb);
     });
   }
-  f.rendered = downloadVector<float>(ctx, s.rendered, size_t(n) * 3);
-  f.imageLoss = downloadVector<float>(ctx, s.lossResult, 4)[0];
+  f.rendered = downloadVector<float>(ctx, s.buffers.rendered, size_t(n) * 3);
+  f.imageLoss = downloadVector<float>(ctx, s.buffers.lossResult, 4)[0];
   return f;
 }
 
 void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& s, const BatchContext& f, bool surfaceLearns) {
-  cmdTraceBackward(cb, s.tracer, s.proxies, s.device, *f.tracedRays, *f.results, *f.dLoss, s.grads, s.stats, s.rayGrads, f.rays(),
+  cmdTraceBackward(cb, s.model.tracer, s.model.proxies, s.model.device, *f.tracedRays, *f.results, *f.dLoss, s.buffers.grads, s.buffers.stats, s.buffers.rayGrads, f.rays(),
                    f.options);
-  profileStage(cb, *s.ctx, "gaussian backward");
+  profileStage(cb, *s.model.ctx, "gaussian backward");
   if (surfaceLearns) {
     if (!f.surfaceRecords) fail("the water's backward of a batch traced without water");
-    cmdBackwardSurfaceToHeights(cb, *s.surface, *f.cameraRays, *f.surfaceRecords, s.rayGrads, f.rays());
+    cmdBackwardSurfaceToHeights(cb, *s.model.surface, *f.cameraRays, *f.surfaceRecords, s.buffers.rayGrads, f.rays());
   }
 }
 
@@ -471,10 +471,10 @@ namespace {
 // Steps at which the water learns, and the steps that end a surface batch (one Adam step on
 // the gradient summed over the batch).
 bool waterLearnsAt(const TrainSession& s, int t) {
-  return s.surface && s.config.model != WaterModel::KnownWater && t > s.config.schedule.surfaceFreeze && t <= lastWaterStep(s);
+  return s.model.surface && s.model.config.model != WaterModel::KnownWater && t > s.model.config.schedule.surfaceFreeze && t <= lastWaterStep(s);
 }
 bool surfaceStepAt(const TrainSession& s, int t) {
-  return waterLearnsAt(s, t) && (t - s.config.schedule.surfaceFreeze) % surfaceBatchSteps(s) == 0;
+  return waterLearnsAt(s, t) && (t - s.model.config.schedule.surfaceFreeze) % surfaceBatchSteps(s) == 0;
 }
 
 // Stops training (refrax::Error) when the water the training views see has left the scene:
@@ -482,9 +482,9 @@ bool surfaceStepAt(const TrainSession& s, int t) {
 // camera, or not finite. A diverged surface (too fast a learning rate) otherwise trains on
 // with every ray missing it and ends as a normal run.
 void requireSurfaceInScene(TrainSession& s, int t) {
-  WaterSurface& ws = *s.surface;
+  WaterSurface& ws = *s.model.surface;
   const std::vector<double>& weights = trainViewWeights(s);
-  const std::vector<float> heights = downloadVector<float>(*s.ctx, ws.gridHeights, ws.gridPointCount);
+  const std::vector<float> heights = downloadVector<float>(*s.model.ctx, ws.gridHeights, ws.gridPointCount);
   double low = INFINITY, high = -INFINITY;
   bool finite = true;
   for (size_t k = 0; k < heights.size(); k++)
@@ -495,20 +495,20 @@ void requireSurfaceInScene(TrainSession& s, int t) {
     }
   double lowestCamera = INFINITY;
   for (const View& v : s.dataset.split("train")) lowestCamera = std::min(lowestCamera, v.camera.position().z);
-  const double bottom = s.config.boxMin[2];
+  const double bottom = s.model.config.boxMin[2];
   if (finite && low > bottom && high < lowestCamera) {
-    s.surfaceShape = measureSurfaceShape(heights, coarseGridLayout(s), weights);
-    s.surfaceShapeMeasured = true;
+    s.log.surfaceShape = measureSurfaceShape(heights, coarseGridLayout(s), weights);
+    s.log.surfaceShapeMeasured = true;
     return;
   }
   // The advice names only what the run does not already use.
   char remedy[160];
-  if (s.config.surfaceBatch == 1)
+  if (s.model.config.surfaceBatch == 1)
     std::snprintf(remedy, sizeof remedy, "a lower --surface-lr (now %g) or --surface-batch views keeps the surface in the scene",
-                  s.config.surfaceLearningRate);
+                  s.model.config.surfaceLearningRate);
   else
     std::snprintf(remedy, sizeof remedy, "a lower --surface-lr (now %g, with one surface step per %d steps) may keep the surface in the scene",
-                  s.config.surfaceLearningRate, surfaceBatchSteps(s));
+                  s.model.config.surfaceLearningRate, surfaceBatchSteps(s));
   char text[640];
   std::snprintf(text, sizeof text,
                 "the water surface diverged at step %d: the heights the training views see run from %.3g to %.3g m%s, outside the scene "
@@ -522,29 +522,29 @@ void requireSurfaceInScene(TrainSession& s, int t) {
 // encoding window, the mean height anchored). The heights do not change between surface
 // steps, so the batch's gradient is the sum of its steps' gradients at one surface.
 void surfaceStep(TrainSession& s, int t) {
-  Context& ctx = *s.ctx;
-  WaterSurface& ws = *s.surface;
-  const int batchSteps = std::min(surfaceBatchSteps(s), t - s.config.schedule.surfaceFreeze);
+  Context& ctx = *s.model.ctx;
+  WaterSurface& ws = *s.model.surface;
+  const int batchSteps = std::min(surfaceBatchSteps(s), t - s.model.config.schedule.surfaceFreeze);
   if (priorOn(s)) {
     HostStage h(ctx, "water prior (host)");
     ensureSurfacePrior(s);
-    addGridGradient(ctx, ws, s.priorGrad, double(batchSteps));
+    addGridGradient(ctx, ws, s.water.priorGrad, double(batchSteps));
   }
   pushWaterGradient(s);
-  if (s.height) {
+  if (s.model.height) {
     submitAndWait(ctx, [&](VkCommandBuffer cb) {
-      cmdAdamStep(cb, s.adamPipelines, s.heightAdam, s.height->weights, s.heightGrad, 0, true);
+      cmdAdamStep(cb, s.water.adamPipelines, s.water.heightAdam, s.model.height->weights, s.water.heightGrad, 0, true);
       cmdBarrier(cb);
       profileStage(cb, ctx, "water adam");
-      s.height->config.encodingWindow = encodingWindowAfterStep(s.config, t, surfaceBatchSteps(s));
-      cmdUpdateSurface(cb, ws, *s.height);
+      s.model.height->config.encodingWindow = encodingWindowAfterStep(s.model.config, t, surfaceBatchSteps(s));
+      cmdUpdateSurface(cb, ws, *s.model.height);
     });
     HostStage h(ctx, "water anchor (host)");
     anchorMeanHeight(s);
   } else {
-    planeAdamStep(s, s.planeGrad);
-    s.planeGrad = 0;
-    liftSurface(s);
+    planeAdamStep(s, s.water.planeGrad);
+    s.water.planeGrad = 0;
+    liftSurface(s.model);
   }
   HostStage h(ctx, "water divergence check (host)");
   requireSurfaceInScene(s, t);
@@ -554,10 +554,10 @@ void surfaceStep(TrainSession& s, int t) {
 // the backward: its gradient added to the table's dL/dlogit in place, its value left in
 // densityResult for gaussianStep.
 void cmdDensityLoss(VkCommandBuffer cb, TrainSession& s) {
-  if (!(s.config.densityLossWeight > 0)) return;
-  cmdDensityRegularizer(cb, s.lossPipelines, s.device.params, s.device.count, s.grads, s.densityPartials, s.densityResult,
-                        float(s.config.densityLossWeight), kGaussianFloats, f32::kGaussLogitDensity);
-  profileStage(cb, *s.ctx, "density regulariser");
+  if (!(s.model.config.densityLossWeight > 0)) return;
+  cmdDensityRegularizer(cb, s.buffers.lossPipelines, s.model.device.params, s.model.device.count, s.buffers.grads, s.buffers.densityPartials, s.buffers.densityResult,
+                        float(s.model.config.densityLossWeight), kGaussianFloats, f32::kGaussLogitDensity);
+  profileStage(cb, *s.model.ctx, "density regulariser");
 }
 
 // The Gaussians' step after the backward (whose gradient holds the density regulariser's,
@@ -565,21 +565,21 @@ void cmdDensityLoss(VkCommandBuffer cb, TrainSession& s) {
 // The batch's rays scale the densification statistic (densifyStatScale): the loss is a mean
 // over the batch, so each ray's gradient shrinks as the batch grows.
 double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
-  Context& ctx = *s.ctx;
-  const TrainConfig& c = s.config;
-  std::vector<float> grads = downloadVector<float>(ctx, s.grads, s.gaussians.params.size());
-  std::vector<float> stats = downloadVector<float>(ctx, s.stats, s.gaussians.count() * 2);
-  const double densityLoss = c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.densityResult, 4)[0] : 0.0;
+  Context& ctx = *s.model.ctx;
+  const TrainConfig& c = s.model.config;
+  std::vector<float> grads = downloadVector<float>(ctx, s.buffers.grads, s.model.gaussians.params.size());
+  std::vector<float> stats = downloadVector<float>(ctx, s.buffers.stats, s.model.gaussians.count() * 2);
+  const double densityLoss = c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.buffers.densityResult, 4)[0] : 0.0;
   if (c.gaussiansFixed) return densityLoss;  // a study of the water alone: the Gaussians stay as read
   HostStage h(ctx, "gaussian adam (host)");
   const float statScale = densifyStatScale(batchRays);
   for (size_t i = 0; i < stats.size(); i += 2) {
-    s.densifyStats[i] += stats[i] * statScale;  // the gradient statistic
-    s.densifyStats[i + 1] += stats[i + 1];      // the count of rays
+    s.state.densifyStats[i] += stats[i] * statScale;  // the gradient statistic
+    s.state.densifyStats[i + 1] += stats[i + 1];      // the count of rays
   }
-  tableAdamStep(s.gaussianAdam, s.gaussians.params, grads);
+  tableAdamStep(s.state.gaussianAdam, s.model.gaussians.params, grads);
   if (c.densify && c.densifyStrategy == DensifyStrategy::Mcmc)
-    mcmcPositionNoise(s.gaussians, s.mcmcConfig, groupLearningRate(s.gaussianAdam, "position"), s.rng);
+    mcmcPositionNoise(s.model.gaussians, s.mcmcConfig, groupLearningRate(s.state.gaussianAdam, "position"), s.state.rng);
   applyDensitySchedule(s, t);
   return densityLoss;
 }
@@ -588,37 +588,37 @@ double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
 // jump across the scene: the proxies are rebuilt rather than refitted).
 bool mcmcStep(TrainSession& s, int t) {
   if (!densifyDue(s.densifyConfig, uint32_t(t))) return false;
-  HostStage h(*s.ctx, "densification (host)");
+  HostStage h(*s.model.ctx, "densification (host)");
   std::vector<uint32_t> rowMap;
-  s.lastMcmc = mcmcDensify(s.gaussians, s.mcmcConfig, s.rng, rowMap);
-  remapTableAdamRows(s.gaussianAdam, rowMap);
-  s.densifyStats.assign(rowMap.size() * 2, 0.0f);  // unused by MCMC; kept one pair per Gaussian
-  return s.lastMcmc.after != s.lastMcmc.before || s.lastMcmc.relocated > 0;
+  s.log.lastMcmc = mcmcDensify(s.model.gaussians, s.mcmcConfig, s.state.rng, rowMap);
+  remapTableAdamRows(s.state.gaussianAdam, rowMap);
+  s.state.densifyStats.assign(rowMap.size() * 2, 0.0f);  // unused by MCMC; kept one pair per Gaussian
+  return s.log.lastMcmc.after != s.log.lastMcmc.before || s.log.lastMcmc.relocated > 0;
 }
 
 // Clone/split/prune when due (3DGS strategy), or MCMC's relocation and growth; true when the
 // table's rows changed.
 bool densifyStep(TrainSession& s, int t) {
-  const TrainConfig& c = s.config;
+  const TrainConfig& c = s.model.config;
   if (c.gaussiansFixed) return false;
   if (c.densifyStrategy == DensifyStrategy::Mcmc) return c.densify && c.schedule.densifyInterval > 0 && mcmcStep(s, t);
   bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
   bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
   if (!cloneSplit && !prune) return false;
-  HostStage h(*s.ctx, "densification (host)");
-  size_t before = s.gaussians.count();
+  HostStage h(*s.model.ctx, "densification (host)");
+  size_t before = s.model.gaussians.count();
   std::vector<uint32_t> rowMap;
-  s.lastDensify = densify(s.gaussians, s.densifyStats, s.densifyConfig, uint32_t(t), s.rng, rowMap);
-  remapTableAdamRows(s.gaussianAdam, rowMap);
+  s.log.lastDensify = densify(s.model.gaussians, s.state.densifyStats, s.densifyConfig, uint32_t(t), s.state.rng, rowMap);
+  remapTableAdamRows(s.state.gaussianAdam, rowMap);
   // The statistics restart after a clone/split (3DGS); a prune alone keeps the survivors'.
   std::vector<float> kept(rowMap.size() * 2, 0.0f);
   if (!cloneSplit)
     for (size_t i = 0; i < rowMap.size(); i++)
       if (rowMap[i] != kNewRow) {
-        kept[2 * i] = s.densifyStats[2 * rowMap[i]];
-        kept[2 * i + 1] = s.densifyStats[2 * rowMap[i] + 1];
+        kept[2 * i] = s.state.densifyStats[2 * rowMap[i]];
+        kept[2 * i + 1] = s.state.densifyStats[2 * rowMap[i] + 1];
       }
-  s.densifyStats = std::move(kept);
+  s.state.densifyStats = std::move(kept);
   bool identity = rowMap.size() == before;
   for (size_t i = 0; identity && i < rowMap.size(); i++) identity = rowMap[i] == i;
   return !identity;  // new rows: re-upload and rebuild the proxies
@@ -628,27 +628,27 @@ bool densifyStep(TrainSession& s, int t) {
 // through it. The MLP's first Adam moments are zeroed (the old direction points back to the
 // old sign); the second moments are kept, being blind to the sign and the gradients' scale.
 void checkWaterSign(TrainSession& s, int t) {
-  TrainSession::SignCheck check;
+  WaterSignCheck check;
   check.step = t;
   check.flat = agreementWithFlatWater(s);  // recorded: does the learned water already fit worse than flat water?
   check.agreement = agreementOfMirror(s);
   const SweepAgreement& a = check.agreement;
   check.mirrored = a.cells > 0 && a.cost < kMirrorBetter * a.reference;
   if (check.mirrored) {
-    mirrorHeightField(*s.ctx, *s.height, s.config.waterHeight);
-    fillBuffer(*s.ctx, s.heightAdam.m, 0);
-    liftSurface(s);
+    mirrorHeightField(*s.model.ctx, *s.model.height, s.model.config.waterHeight);
+    fillBuffer(*s.model.ctx, s.water.heightAdam.m, 0);
+    liftSurface(s.model);
     anchorMeanHeight(s);
   }
-  s.signChecks.push_back(check);
+  s.log.signChecks.push_back(check);
 }
 
 // The Gaussians drawn afresh when the step is one of --restart-gaussians; true if so.
 bool restartStep(TrainSession& s, int t) {
-  const std::vector<int>& restarts = s.config.schedule.gaussianRestarts;
+  const std::vector<int>& restarts = s.model.config.schedule.gaussianRestarts;
   if (std::find(restarts.begin(), restarts.end(), t) == restarts.end()) return false;
-  HostStage h(*s.ctx, "restart and plane sweep");
-  if (s.config.waterSignCheck && s.height && waterLearnsAt(s, t)) checkWaterSign(s, t);
+  HostStage h(*s.model.ctx, "restart and plane sweep");
+  if (s.model.config.waterSignCheck && s.model.height && waterLearnsAt(s, t)) checkWaterSign(s, t);
   drawGaussians(s);
   return true;
 }
@@ -660,7 +660,7 @@ bool restartStep(TrainSession& s, int t) {
 DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSweepConfig& pc) {
   constexpr size_t kMaxViews = 12;
   pushWaterGradient(s);
-  submitAndWait(*s.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.surface, heights); });
+  submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.model.surface, heights); });
   std::vector<SweepView> views = sweepViews(s, heights, kMaxViews);
   if (!(pc.cellSize > 0)) pc.cellSize = sweepCellSize(views, 0.5 * (pc.zMin + pc.zMax));
   return planeSweepDepth(views, pc);
@@ -669,72 +669,72 @@ DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSw
 }  // namespace
 
 SweepAgreement agreementWithFlatWater(TrainSession& s) {
-  if (!s.surface) fail("agreementWithFlatWater: the model has no water");
+  if (!s.model.surface) fail("agreementWithFlatWater: the model has no water");
   AnalyticWaves level;
-  level.base = float(s.config.waterHeight);
-  AnalyticHeightField flat = createAnalyticHeightField(*s.ctx, level);
-  PlaneSweepConfig pc = boxSweepConfig(s.config);  // one grid for both: the flat water's cell size
+  level.base = float(s.model.config.waterHeight);
+  AnalyticHeightField flat = createAnalyticHeightField(*s.model.ctx, level);
+  PlaneSweepConfig pc = boxSweepConfig(s.model.config);  // one grid for both: the flat water's cell size
   const DepthMap reference = sweepThroughWater(s, heightSource(flat), pc);
-  return compareSweepCosts(sweepThroughWater(s, currentHeightSource(s), pc), reference);
+  return compareSweepCosts(sweepThroughWater(s, currentHeightSource(s.model), pc), reference);
 }
 
 SweepAgreement agreementOfMirror(TrainSession& s) {
-  if (!s.surface || !s.height) fail("agreementOfMirror: the model has no learned height field");
-  PlaneSweepConfig pc = boxSweepConfig(s.config);
-  const DepthMap learned = sweepThroughWater(s, currentHeightSource(s), pc);
-  const float initialHeight = s.height->config.initialHeight;
-  mirrorHeightField(*s.ctx, *s.height, s.config.waterHeight);
-  const SweepAgreement a = compareSweepCosts(sweepThroughWater(s, currentHeightSource(s), pc), learned);
-  mirrorHeightField(*s.ctx, *s.height, s.config.waterHeight);  // back: negation is exact,
-  s.height->config.initialHeight = initialHeight;               // the reflected constant maybe not
-  liftSurface(s);
+  if (!s.model.surface || !s.model.height) fail("agreementOfMirror: the model has no learned height field");
+  PlaneSweepConfig pc = boxSweepConfig(s.model.config);
+  const DepthMap learned = sweepThroughWater(s, currentHeightSource(s.model), pc);
+  const float initialHeight = s.model.height->config.initialHeight;
+  mirrorHeightField(*s.model.ctx, *s.model.height, s.model.config.waterHeight);
+  const SweepAgreement a = compareSweepCosts(sweepThroughWater(s, currentHeightSource(s.model), pc), learned);
+  mirrorHeightField(*s.model.ctx, *s.model.height, s.model.config.waterHeight);  // back: negation is exact,
+  s.model.height->config.initialHeight = initialHeight;               // the reflected constant maybe not
+  liftSurface(s.model);
   return a;
 }
 
 void pushWaterGradient(TrainSession& s) {
-  if (!s.surface || !s.surface->gradientPending) return;
-  if (s.height) {
-    pushSurfaceGradients(*s.ctx, *s.surface, heightSource(*s.height, s.heightGrad));
+  if (!s.model.surface || !s.model.surface->gradientPending) return;
+  if (s.model.height) {
+    pushSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad));
   } else {
-    s.planeGrad += planeHeightGradient(s);
-    s.surface->gradientPending = false;
+    s.water.planeGrad += planeHeightGradient(s);
+    s.model.surface->gradientPending = false;
   }
 }
 
 StepResult trainStep(TrainSession& s) {
   auto start = std::chrono::steady_clock::now();
-  const int t = ++s.step;
+  const int t = ++s.model.step;
   const StepBatch batch = nextStepBatch(s);
   const TraceOptions opt = stepTraceOptions(s, batch, t);
   const BatchForward forward = forwardBatch(s, batch, opt, [&](VkCommandBuffer cb, const BatchContext& context) {
-    vkCmdFillBuffer(cb, s.grads.buffer, 0, VK_WHOLE_SIZE, 0);
-    vkCmdFillBuffer(cb, s.stats.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, s.buffers.grads.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, s.buffers.stats.buffer, 0, VK_WHOLE_SIZE, 0);
     cmdBarrier(cb);
     cmdBackwardBatch(cb, s, context, waterLearnsAt(s, t));
     cmdDensityLoss(cb, s);
   });
   StepResult r;
-  if (s.surface) r.missed = s.surface->lastCounters.missed;  // before a restart's plane sweep traces again
+  if (s.model.surface) r.missed = s.model.surface->lastCounters.missed;  // before a restart's plane sweep traces again
   double priorEnergy = 0;  // of the surface this step traced
   if (waterLearnsAt(s, t) && priorOn(s)) {
-    HostStage h(*s.ctx, "water prior (host)");
+    HostStage h(*s.model.ctx, "water prior (host)");
     ensureSurfacePrior(s);
-    priorEnergy = s.priorEnergy;
+    priorEnergy = s.water.priorEnergy;
   }
   if (surfaceStepAt(s, t)) surfaceStep(s, t);
   const double densityLoss = gaussianStep(s, t, batch.rays());
   const bool countChanged = densifyStep(s, t);
   r.restarted = restartStep(s, t);
   {
-    HostStage h(*s.ctx, "gaussian upload and proxies");
+    HostStage h(*s.model.ctx, "gaussian upload and proxies");
     syncGaussians(s, countChanged || r.restarted);
   }
   r.imageLoss = forward.imageLoss;
   r.loss = r.imageLoss + densityLoss + priorEnergy;
   r.psnr = batchPsnr(forward.rendered, forward.target, forward.weight);
-  r.gaussians = uint32_t(s.gaussians.count());
+  r.gaussians = uint32_t(s.model.gaussians.count());
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");
-  s.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  s.model.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
 

@@ -13,7 +13,6 @@
 //   -> Adam on the Gaussian table's six groups (engine/optim/table_adam.h).
 // The camera rays, the Gaussians, the loss and the backward share one submission with the
 // surface trace's last (profile: `refrax train --profile`, engine/vk/vk_profile.h).
-// The session is not movable (height sources refer to its members): it lives in a unique_ptr.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -52,40 +51,41 @@ struct StepResult {
   bool restarted = false; // the Gaussians were drawn afresh after this step (--restart-gaussians)
 };
 
-// A model in training: the model (engine/model/model.h: Gaussians, water, ray buffers) with
-// the dataset, the optimisers, the loss and the batch's buffers.
-struct TrainSession : Model {
-  Dataset dataset;
+// The optimisers' state and the batch order: with the model's parameters, what a checkpoint
+// saves and restores (checkpointContents, engine/train/checkpoint.h), so that a resumed run
+// continues exactly. The water's optimiser is in WaterLearning (its moments live on the device).
+struct TrainingState {
+  TableAdam gaussianAdam;            // the Gaussians' optimiser (host table)
+  std::vector<float> densifyStats;   // per Gaussian since the last clone/split: the gradient statistic, the rays (engine/gaussian/densify.h)
+  std::mt19937 rng;
+  std::vector<uint32_t> viewOrder;   // a shuffled pass over the training views
+  uint32_t viewCursor = 0;
+};
 
-  // The Gaussians' optimiser (host table).
-  TableAdam gaussianAdam;
-
-  // The water's optimiser: the MLP's device Adam, or the plane's height as a table of one row
-  // and one column.
+// The water's learning: its optimiser (the MLP's device Adam, or the plane's height as a table
+// of one row and one column), the gradient summed since the last surface step, and the priors'
+// cache. Part of the gradient sits in the surface until pushWaterGradient takes it into
+// heightGrad or planeGrad; the surface refuses to be lifted or re-created while it does.
+struct WaterLearning {
   AdamPipelines adamPipelines;
-  AdamGroup heightAdam;
-  Buffer heightGrad;
-  TableAdam planeAdam;
-  double planeGrad = 0;  // dL/d(plane height) summed since the last plane step (--surface-batch), pushed part
+  AdamGroup heightAdam;   // checkpointed
+  Buffer heightGrad;      // checkpointed: dL/d(MLP parameters) summed since the last surface step
+  TableAdam planeAdam;    // checkpointed
+  double planeGrad = 0;   // checkpointed: dL/d(plane height) summed since the last plane step (--surface-batch)
   // The priors (--surface-smoothness, --level-prior) of the current heights: dE/dheight at the
   // coarse grid's vertices (surface_prior.h) and E; fresh until the surface is lifted again.
   std::vector<float> priorGrad;
   double priorEnergy = 0;
   uint64_t priorHeightsVersion = 0;  // the surface's heightsVersion they were computed at
-  double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
-  // --water-sign-check at the restarts of this process: the step, the mirror's agreement
-  // against the learned water's, and whether the mirror was kept.
-  struct SignCheck {
-    int step = 0;
-    SweepAgreement agreement;  // the mirror image (cost) against the learned water (reference)
-    SweepAgreement flat;       // the learned water (cost) against flat water (reference), before any mirroring
-    bool mirrored = false;
-  };
-  std::vector<SignCheck> signChecks;
-  size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
+  // --anchor-mean-height, --level-prior and the divergence check: each coarse grid slot's
+  // weight (viewWeights over the training views, computed on first use per surface grid).
+  std::vector<double> viewWeights;
+};
 
-  // Per-step buffers for up to `batchCapacity` rays (the model's own ray buffers: Model::capacity).
-  uint32_t batchCapacity = 0;
+// The step's device buffers for up to `capacity` rays (the model's own ray buffers:
+// Model::capacity) and the pipelines that only training uses.
+struct StepBuffers {
+  uint32_t capacity = 0;
   LossPipelines lossPipelines;
   ComputePipeline copyPipeline;  // layouts handed between stages (engine/vk/strided_copy.h)
   ImageLossScratch lossScratch;
@@ -93,30 +93,49 @@ struct TrainSession : Model {
   Buffer pixelWeights;    // the batch's mask (1: the pixel counts), for masked views
   Buffer densityPartials, densityResult;  // the density regulariser's partial sums and value (engine/loss/image_loss.h)
   HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
+};
 
-  // Densification (engine/gaussian/densify.h, 3DGS strategy): the tracer's per-Gaussian statistics
-  // accumulated since the last clone/split, and the schedule derived from config.schedule.
-  std::vector<float> densifyStats;
-  // --anchor-mean-height, --level-prior and the divergence check: each coarse grid slot's
-  // weight (viewWeights over the training views, computed on first use).
-  std::vector<double> anchorWeights;
-  DensifyConfig densifyConfig;
+// --water-sign-check at a restart of this process: the step, the mirror's agreement against
+// the learned water's, and whether the mirror was kept.
+struct WaterSignCheck {
+  int step = 0;
+  SweepAgreement agreement;  // the mirror image (cost) against the learned water (reference)
+  SweepAgreement flat;       // the learned water (cost) against flat water (reference), before any mirroring
+  bool mirrored = false;
+};
+
+// What the run reports of this process (refrax report, the end-of-run checks, --profile);
+// nothing here steers training.
+struct RunLog {
   DensifyStats lastDensify;
-  // --densify-strategy mcmc (engine/gaussian/mcmc.h): at densifyConfig's densification steps.
-  McmcConfig mcmcConfig;
   McmcStats lastMcmc;
-
+  std::vector<WaterSignCheck> signChecks;
+  size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
+  double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
   // The learned water's shape over the seen water as of its last surface step (measured by the
   // divergence check, which reads the heights anyway), and the run's series of it with the
   // mean training loss (engine/surface/surface_watch.h; trainToEnd samples it).
   SurfaceShape surfaceShape;
   bool surfaceShapeMeasured = false;
   std::vector<SurfaceWatchSample> surfaceWatch;
+  GpuProfiler profiler;  // the steps of this process, stage by stage (engine/vk/vk_profile.h)
+};
 
-  std::mt19937 rng;
-  std::vector<uint32_t> viewOrder;  // a shuffled pass over the training views
-  uint32_t viewCursor = 0;
-  GpuProfiler profiler;             // the steps of this process, stage by stage (engine/vk/vk_profile.h)
+// A model in training: the model (engine/model/model.h: Gaussians, water, ray buffers; what a
+// run's reader loads) and, by lifetime, the dataset, the checkpointed training state, the
+// water's learning, the step's buffers, the densification rules derived from the config, and
+// the run's log. Not movable (the model is not): it lives in a unique_ptr.
+struct TrainSession {
+  Model model;
+  Dataset dataset;
+  TrainingState state;
+  WaterLearning water;
+  StepBuffers buffers;
+  // Densification (engine/gaussian/densify.h: 3DGS's clone/split/prune, or mcmc.h), derived
+  // from config.schedule at creation.
+  DensifyConfig densifyConfig;
+  McmcConfig mcmcConfig;
+  RunLog log;
 };
 
 // Loads nothing: `dataset` and `config` (resolved) are given. Initialises the Gaussians,
@@ -132,8 +151,10 @@ StepResult trainStep(TrainSession& session);
 
 // The water's gradient summed since the last surface step sits partly in the surface, as
 // dL/dheight at its lattice points (engine/surface/water_surface.h): this takes it into the
-// parameters' gradient (the MLP's heightGrad, or planeGrad). Needed before anything that
+// parameters' gradient (water.heightGrad for the MLP, or water.planeGrad). Needed before anything that
 // lifts the surface again, re-creates it or saves the session; a no-op when nothing is pending.
+// A missed push is an error, not a lost gradient: the surface refuses to be lifted or
+// re-created, and its point cache to overflow, while a gradient is pending (water_surface.h).
 void pushWaterGradient(TrainSession& session);
 
 // The parts of a step, for trainStep and for checks that differentiate a fixed batch
@@ -177,9 +198,9 @@ struct BatchForward {
 BatchForward forwardBatch(TrainSession& session, const StepBatch& batch, const TraceOptions& options,
                           const std::function<void(VkCommandBuffer, const BatchContext&)>& then = {});
 // Records the backward of the forward that returned `context`: per-Gaussian gradients into
-// session.grads (and statistics), per-ray dL/d(ray) and, when the surface learns, dL/d(height)
+// session.buffers.grads (and statistics), per-ray dL/d(ray) and, when the surface learns, dL/d(height)
 // at the surface's lattice points (pushed into the parameters by pushWaterGradient).
-// session.grads and session.stats must have been cleared.
+// session.buffers.grads and .stats must have been cleared.
 void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& session, const BatchContext& context, bool surfaceLearns);
 
 // After the host table changed (Adam, decay, reset, densification): upload it and refresh

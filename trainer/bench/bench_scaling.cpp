@@ -98,10 +98,10 @@ Timing measure(Context& ctx, const std::string& datasetDir, const Setting& s, co
   t.height = cam.height;
   int warmup = int(args.getInt("warmup", 2)), runs = int(args.getInt("runs", 5));
   t.stepMs = bench::medianMs(warmup, runs, [&] { trainStep(ts); });
-  t.renderMs = bench::medianMs(1, runs, [&] { renderView(ts, cam, WaterView::Keep); });
+  t.renderMs = bench::medianMs(1, runs, [&] { renderView(ts.model, cam, WaterView::Keep); });
   t.peakMiB = peakMemoryMiB();
-  t.gaussians = ts.gaussians.count();
-  t.gridCells = ts.surface ? ts.surface->config.gridCells : 0;
+  t.gaussians = ts.model.gaussians.count();
+  t.gridCells = ts.model.surface ? ts.model.surface->config.gridCells : 0;
   return t;
 }
 
