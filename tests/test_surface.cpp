@@ -34,11 +34,11 @@ ForwardReport compareForward(const ref::SurfaceRef& sref, const std::vector<GpuR
     ref::SurfaceRefHit h = ref::traceSurfaceRef(sref, rays[i]);
     const SurfaceRecord& rec = run.recordList[i];
     bool edge = (h.flags & kSurfaceHit) && h.margin < edgeEps;
-    if ((h.flags & mask) != (rec.flags() & mask)) {
+    if ((h.flags & mask) != (surfaceRecordFlags(rec) & mask)) {
       rep.ambiguous += edge;
-      rep.flagMismatch += !edge && !((h.flags & kSurfaceMissed) || (rec.flags() & kSurfaceMissed));
+      rep.flagMismatch += !edge && !((h.flags & kSurfaceMissed) || (surfaceRecordFlags(rec) & kSurfaceMissed));
       // a miss/hit disagreement is only acceptable at the domain's edge
-      rep.flagMismatch += !edge && ((h.flags & kSurfaceMissed) || (rec.flags() & kSurfaceMissed));
+      rep.flagMismatch += !edge && ((h.flags & kSurfaceMissed) || (surfaceRecordFlags(rec) & kSurfaceMissed));
       continue;
     }
     if (!(h.flags & kSurfaceHit)) continue;
@@ -86,7 +86,7 @@ void checkForwardAgainstReference(Context& ctx, std::mt19937& rng, uint32_t cell
   // rays aimed at [-1.1, 1.1]^2 partly miss [-1, 1]^2: they are counted, and continue unrefracted
   size_t missed = 0;
   for (size_t i = 0; i < rays.size(); i++)
-    if (run.recordList[i].flags() & kSurfaceMissed) {
+    if (surfaceRecordFlags(run.recordList[i]) & kSurfaceMissed) {
       missed++;
       REQUIRE(std::memcmp(&run.refractedRays[i], &rays[i], sizeof(GpuRay)) == 0);
     }
@@ -126,8 +126,8 @@ GPU_TEST_CASE("subdivision tracing stays within the interpolation bound of the e
     size_t fallback = 0;
     for (size_t i = 0; i < rays.size(); i++) {
       const SurfaceRecord& rec = run.recordList[i];
-      if (!(rec.flags() & kSurfaceHit)) continue;
-      if (rec.flags() & kSurfaceFallback) {
+      if (!(surfaceRecordFlags(rec) & kSurfaceHit)) continue;
+      if (surfaceRecordFlags(rec) & kSurfaceFallback) {
         fallback++;
         continue;
       }
@@ -198,8 +198,8 @@ GPU_TEST_CASE("subdivision tracing on the MLP surface: exact intersection and in
   size_t fallback = 0, unbracketed = 0;
   for (size_t i = 0; i < rays.size(); i++) {
     const SurfaceRecord& rec = run.recordList[i];
-    if (!(rec.flags() & kSurfaceHit)) continue;
-    if (rec.flags() & kSurfaceFallback) {
+    if (!(surfaceRecordFlags(rec) & kSurfaceHit)) continue;
+    if (surfaceRecordFlags(rec) & kSurfaceFallback) {
       fallback++;
       continue;
     }
@@ -256,7 +256,7 @@ GPU_TEST_CASE("a shared vertex gets bitwise-identical normals from every triangl
   double worstRef = 0;
   for (size_t i = 0; i < rays.size(); i++) {
     const SurfaceRecord& rec = run.recordList[i];
-    if (!(rec.flags() & kSurfaceHit)) continue;
+    if (!(surfaceRecordFlags(rec) & kSurfaceHit)) continue;
     ref::SurfaceTriangle tri = ref::triangleOf(rec);
     ref::SurfaceRefHit h = ref::refractOnTriangleRef(sref, sref.height, rays[i], tri);
     for (int c = 0; c < 3; c++) {
@@ -326,9 +326,9 @@ GPU_TEST_CASE("bad surface input: clear errors, flagged rays, empty rays for inv
   auto run = test::runSurface(ctx, ws, hs, rays);
   CHECK(run.counters.invalid == 4);
   for (int i : {1, 2, 3, 4}) {
-    CHECK(run.recordList[i].flags() == kSurfaceInvalidRay);
+    CHECK(surfaceRecordFlags(run.recordList[i]) == kSurfaceInvalidRay);
     CHECK(run.refractedRays[i].tmax == 0.0f);
     CHECK(std::isfinite(run.refractedRays[i].origin[0]));
   }
-  for (int i : {0, 5, 6, 7}) CHECK((run.recordList[i].flags() & kSurfaceHit) != 0);
+  for (int i : {0, 5, 6, 7}) CHECK((surfaceRecordFlags(run.recordList[i]) & kSurfaceHit) != 0);
 }

@@ -72,7 +72,7 @@ GradSetup traceForGradients(Context& ctx, std::mt19937& rng, WaterSurface& ws, c
   s.run = test::runSurface(ctx, ws, hs, s.rays);
   s.tris.resize(rayCount);
   for (size_t i = 0; i < rayCount; i++)
-    if (s.run.recordList[i].flags() & kSurfaceHit) {
+    if (surfaceRecordFlags(s.run.recordList[i]) & kSurfaceHit) {
       s.tris[i] = ref::triangleOf(s.run.recordList[i]);
       s.hits.push_back(i);
     }
@@ -285,6 +285,6 @@ GPU_TEST_CASE("surface backward never writes NaN: invalid rays and NaN incoming 
   for (float x : grid) REQUIRE(std::isfinite(x));
   SurfaceCounters c = readSurfaceCounters(ctx, ws);
   CHECK(c.invalid == 2);
-  uint32_t nonFiniteHits = (s.run.recordList[5].flags() & kSurfaceHit ? 1 : 0) + (s.run.recordList[6].flags() & kSurfaceHit ? 1 : 0);
+  uint32_t nonFiniteHits = (surfaceRecordFlags(s.run.recordList[5]) & kSurfaceHit ? 1 : 0) + (surfaceRecordFlags(s.run.recordList[6]) & kSurfaceHit ? 1 : 0);
   CHECK(c.nonFiniteGradients == nonFiniteHits);
 }

@@ -139,7 +139,7 @@ GPU_TEST_CASE("the surface shader refracts by the scalar law on a flat surface, 
   size_t hits = 0;
   double worst = 0, worstPlane = 0;
   for (size_t i = 0; i < rays.size(); i++) {
-    if (!(run.recordList[i].flags() & kSurfaceHit)) continue;
+    if (!(surfaceRecordFlags(run.recordList[i]) & kSurfaceHit)) continue;
     hits++;
     dvec3 d = glm::normalize(test::vec3Of(rays[i].dir)), w = test::vec3Of(run.refractedRays[i].dir);
     dvec3 n = test::vec3Of(&run.hitNormals[16 * i]);

@@ -98,7 +98,7 @@ GPU_TEST_CASE("trace backends: the same water gives the same triangles, t and re
   double worstT = 0, worstRay = 0;
   for (size_t i = 0; i < rays.size(); i++) {
     const SurfaceRecord &a = run[0].recordList[i], &b = run[1].recordList[i];
-    bool ha = a.flags() & kSurfaceHit, hb = b.flags() & kSurfaceHit;
+    bool ha = surfaceRecordFlags(a) & kSurfaceHit, hb = surfaceRecordFlags(b) & kSurfaceHit;
     hitMiss += ha != hb;
     if (!ha || !hb) continue;
     hits++;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/base/gpu_layout.h"
 #include "engine/gaussian/gaussians.h"
 #include "engine/trace/box_bvh.h"
 #include "engine/trace/rays.h"
@@ -30,16 +31,9 @@ struct DeviceCaps;
 // measured here, the reference implementation's default, the instanced unit box.
 ProxyKind proxyKindFor(const std::string& choice, const DeviceCaps& caps);
 
-// Host mirror of TraceResult (shaders/include/gaussian_trace_types.glsl).
-struct GpuTraceResult {
-  float rgb[3];
-  float opacity;        // 1 - transmittance
-  float depth;          // sum_k T_k alpha_k t_k
-  float transmittance;  // the background's weight
-  uint32_t hits;        // hits blended
-  uint32_t rounds;      // k-buffer rounds traced
-};
-static_assert(sizeof(GpuTraceResult) == 32, "GpuTraceResult must match the std430 TraceResult");
+// GpuTraceResult {rgb[3], opacity, depth, transmittance, hits, rounds}, declared once in
+// shaders/include/trace_result.glsl.
+#include "trace_result.glsl"
 constexpr uint32_t kTraceResultFloats = sizeof(GpuTraceResult) / 4;  // rgb first
 
 // Hit records: a training forward writes, per ray, the hits it blended in order (Gaussian

@@ -84,7 +84,7 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
     out.missed = surface->lastCounters.missed;
     auto records = downloadVector<SurfaceRecord>(ctx, m.records, n);
     std::vector<uint32_t> flags(n);
-    for (uint32_t i = 0; i < n; i++) flags[i] = records[i].flags();
+    for (uint32_t i = 0; i < n; i++) flags[i] = surfaceRecordFlags(records[i]);
     collectSurfacePoints(m, downloadVector<GpuRay>(ctx, m.rays, n), downloadVector<GpuRay>(ctx, m.refracted, n), flags, out);
   }
   TraceOptions opt;

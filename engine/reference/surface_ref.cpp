@@ -86,7 +86,7 @@ glm::dvec2 latticePointRef(const SurfaceRef& s, int X, int Y) {
 }
 
 SurfaceTriangle triangleOf(const SurfaceRecord& rec) {
-  return {rec.level(), int(rec.cellI()), int(rec.cellJ()), int(rec.side())};
+  return {surfaceRecordLevel(rec), int(surfaceRecordCellI(rec)), int(surfaceRecordCellJ(rec)), int(surfaceRecordSide(rec))};
 }
 
 SurfaceRefHit traceSurfaceRef(const SurfaceRef& s, const GpuRay& ray) {

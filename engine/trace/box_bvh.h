@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/base/gpu_layout.h"
 #include "engine/vk/vk_buffer.h"
 #include "engine/vk/vk_pipeline.h"
 
@@ -17,16 +18,10 @@ namespace refrax {
 
 struct Context;
 
-// Mirror of BvhNode in shaders/include/box_bvh.glsl: a leaf has left == kBvhLeaf and its
-// slot in right; an internal node's children are node indices.
-struct BvhNode {
-  float lo[3];
-  uint32_t left;
-  float hi[3];
-  uint32_t right;
-};
-static_assert(sizeof(BvhNode) == 32, "BvhNode must match box_bvh.glsl");
-constexpr uint32_t kBvhLeaf = 0xFFFFFFFFu;
+// BvhNode {lo[3], left, hi[3], right} and kBvhLeaf, declared once in
+// shaders/include/bvh_node.glsl: a leaf has left == kBvhLeaf and its slot in right; an
+// internal node's children are node indices.
+#include "bvh_node.glsl"
 
 // The tree's topology for `leaves` slots (at least 1): the nodes (bounds unset) and the
 // breadth-first level of the internal nodes: level l holds nodes [levelStart[l], levelStart[l + 1]).

@@ -5,6 +5,8 @@
 #include <string>
 #include <glm/glm.hpp>
 
+#include "engine/base/gpu_layout.h"
+
 namespace refrax {
 
 struct FlyCamera {
@@ -33,11 +35,10 @@ void lookAt(FlyCamera& cam, const glm::vec3& position, const glm::vec3& target);
 
 namespace refrax {
 
-// std430 mirror of PinholeCamera in shaders/include/camera.glsl: right/up pre-scaled by
-// the tangents of the half fields of view (square pixels: tanHalfX = tanHalfY * w / h).
-struct GpuPinholeCamera {
-  float position[4], forward[4], right[4], up[4];
-};
+// GpuPinholeCamera {position[4], forward[4], right[4], up[4]}, declared once in
+// shaders/include/pinhole_camera.glsl: right/up pre-scaled by the tangents of the half fields
+// of view (square pixels: tanHalfX = tanHalfY * w / h).
+#include "pinhole_camera.glsl"
 GpuPinholeCamera toGpuCamera(const FlyCamera& cam, uint32_t width, uint32_t height);
 
 }  // namespace refrax

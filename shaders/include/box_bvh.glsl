@@ -4,13 +4,7 @@
 // leaves it meets: what a ray query reports as AABB candidates, in another order.
 #ifndef REFRAX_BOX_BVH_GLSL
 #define REFRAX_BOX_BVH_GLSL
-struct BvhNode {
-  vec3 lo;
-  uint left;  // kBvhLeaf: a leaf, its slot in `right`
-  vec3 hi;
-  uint right;
-};
-const uint kBvhLeaf = 0xFFFFFFFFu;
+#include "bvh_node.glsl"
 const int kBvhStack = 64;  // the tree's depth is log2 of the slots, rounded up: 24 for 16M
 
 // Ray o + t d against the box [lo, hi] within [t0, t1] (invD = 1 / d per axis, +-inf where d

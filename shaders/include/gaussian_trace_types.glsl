@@ -1,4 +1,4 @@
-// Records of the Gaussian tracer shaders (GLSL only; host mirrors in engine/gaussian/gaussian_trace.h).
+// Records of the Gaussian tracer shaders (GLSL only, but for TraceResult: trace_result.glsl).
 #ifndef REFRAX_GAUSSIAN_TRACE_TYPES_GLSL
 #define REFRAX_GAUSSIAN_TRACE_TYPES_GLSL
 #include "gaussian_math.glsl"
@@ -16,14 +16,7 @@ struct TraceGaussian {
 // kGaussSH.. (coefficient k, channel c at 3k + c) as 12 vec4s.
 const uint kShVec4s = 12u;
 
-// Per-ray forward output (engine/gaussian/gaussian_trace.h GpuTraceResult).
-struct TraceResult {
-  vec4 rgbOpacity;
-  float depth;          // sum of T_k alpha_k t_k (not normalised)
-  float transmittance;  // T after the last blended hit (the background's weight)
-  uint hits;            // hits blended
-  uint rounds;          // k-buffer rounds traced
-};
+#include "trace_result.glsl"
 
 // The hits a recording forward blended, in order, per ray (engine/gaussian/gaussian_trace.h
 // HitRecords): x = Gaussian id, y = unclamped alpha (float bits). The backward reads them

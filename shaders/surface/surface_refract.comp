@@ -25,7 +25,7 @@ void main() {
   uint r = gl_GlobalInvocationID.x;
   if (r >= pc.count) return;
   SurfaceRecord rec = records[r];
-  uint flags = rec.info >> 8;
+  uint flags = surfaceRecordFlags(rec);
   Ray ray = rays[r];
   if ((flags & kSurfaceInvalidRay) != 0u) {
     refracted[r] = Ray(vec4(0.0), vec4(0.0, 0.0, -1.0, 0.0));
@@ -37,7 +37,7 @@ void main() {
   if ((flags & kSurfaceHit) != 0u) {
     int i, j;
     unpackCell(rec.cell, i, j);
-    int side = int(rec.info & 1u);
+    int side = int(surfaceRecordSide(rec));
     bool ok = true;
     vec3 P[3], N[3];
     for (int k = 0; k < 3; k++) {

@@ -21,14 +21,14 @@ void main() {
   uint r = gl_GlobalInvocationID.x;
   if (r >= pc.count) return;
   SurfaceRecord rec = records[r];
-  uint flags = rec.info >> 8;
+  uint flags = surfaceRecordFlags(rec);
   if ((flags & kSurfaceHit) == 0u) return;
   vec3 o, d;
   float tmin, tmax;
   loadRay(rays[r].originTmin, rays[r].dirTmax, o, d, tmin, tmax);
   int i, j;
   unpackCell(rec.cell, i, j);
-  int side = int(rec.info & 1u);
+  int side = int(surfaceRecordSide(rec));
   int bestInside = -1, bestOutside = -1;
   float bestT = 0.0, bestOut = 0.0;
   vec3 tuvs[4];

@@ -141,7 +141,7 @@ void measureHitErrors(Context& ctx, WaterSurface& ws, const HeightField& hf, Sur
   std::vector<float> xy;
   std::vector<float> z;
   for (uint32_t i = 0; i < b.count; i++)
-    if (rec[i].flags() & kSurfaceHit) {
+    if (surfaceRecordFlags(rec[i]) & kSurfaceHit) {
       xy.push_back(out[i].origin[0]);
       xy.push_back(out[i].origin[1]);
       z.push_back(out[i].origin[2]);
