@@ -151,7 +151,7 @@ if a.settings:
     lines.append('Settings: %s.' % a.settings)
 lines += ['Runs finished: %d%s; failed: %d.' % (done, ' of %d' % a.expected_runs if a.expected_runs else '', len(failed)), '',
           'Scenes: `refrax synth random --seed N` (scenes/scene_N.json says what each was); the method is `refrax train` with no '
-          'method flags. *gain*: method minus straight rays (test PSNR, dB); *gap*: the oracle (`--known-water`) minus the method; '
+          'method flags (but the settings\' method flags, where they name some). *gain*: method minus straight rays (test PSNR, dB); *gap*: the oracle (`--known-water`) minus the method; '
           '*lead*: the oracle minus straight rays (the water matters where it is %g dB or more); *surface / flat*: the method\'s '
           'surface RMSE over the flat start\'s (above 1: worse than the flat start; above %g: diverged); *amplitude*: '
           'bench/surface-error.py\'s amplitude ratio over the square the test views see (1: the waves\' full height). '

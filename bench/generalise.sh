@@ -22,11 +22,14 @@
 #
 # Usage: bench/generalise.sh [--set dev|eval] [--scenes N] [--seeds S] [--steps N] [--jobs N]
 #                            [--dataset-size tiny|full] [--out DIR] [--resume | --charts-only]
-#                            [--keep-work] [--smoke]
+#                            [--method-flags "FLAGS"] [--keep-work] [--smoke]
 #   --set      dev (default) or eval
 #   --scenes N the set's first N scenes (default 12); --seeds S training seeds 1..S (default 2)
 #   --steps N  every model trains N steps (default: refrax train's own default, what a user gets)
 #   --jobs N   trainings at a time (default 1; a GPU machine takes several)
+#   --method-flags "FLAGS"  a candidate default: the method trains with these flags added (the
+#              other models do not); recorded in the settings, so compare two --out folders
+#              of the same scenes and seeds, one without. Choose on dev, then check on eval.
 #   --dataset-size  tiny caps the scenes at 64 px (CI); default full: the drawn 96-400 px
 #   --resume   keep the rows in DIR/rows from an earlier invocation with the same settings and
 #              the same training code (git's hash of engine/ shaders/ trainer/ CMakeLists.txt;
@@ -46,6 +49,7 @@ scenes=12
 seeds=2
 steps=""
 jobs=1
+method_flags=""
 resume=0
 dataset_size=full
 smoke=0
@@ -57,6 +61,7 @@ while [ $# -gt 0 ]; do
     --seeds) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --seeds needs a count" >&2; exit 2; }; seeds=$2; shift ;;
     --steps) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --steps needs a step count" >&2; exit 2; }; steps=$2; shift ;;
     --jobs) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --jobs needs a count" >&2; exit 2; }; jobs=$2; shift ;;
+    --method-flags) [ $# -ge 2 ] || { echo "generalise: --method-flags needs the flags, quoted as one argument" >&2; exit 2; }; method_flags=$2; shift ;;
     --dataset-size) [ $# -ge 2 ] && { [ "$2" = tiny ] || [ "$2" = full ]; } || { echo "generalise: --dataset-size needs tiny or full" >&2; exit 2; }; dataset_size=$2; shift ;;
     --resume) resume=1 ;;
     --smoke) smoke=1 ;;
@@ -79,7 +84,7 @@ seed_list=$(seq 1 "$seeds")
 models=(method no-refraction flat-water dry-control known-water)
 model_options() {
   case $1 in
-    method) echo "" ;;
+    method) echo "$method_flags" ;;
     no-refraction|dry-control) echo "--no-refraction" ;;
     flat-water) echo "--flat-water" ;;
     known-water) echo "--known-water" ;;
@@ -87,7 +92,7 @@ model_options() {
 }
 train_steps=()
 [ -z "$steps" ] || train_steps=(--steps "$steps")
-settings="set $set_name, scenes $(echo $scene_list | tr ' ' ','), training seeds $(echo $seed_list | tr ' ' ','), ${steps:-default} steps, dataset size $dataset_size"
+settings="set $set_name, scenes $(echo $scene_list | tr ' ' ','), training seeds $(echo $seed_list | tr ' ' ','), ${steps:-default} steps, dataset size $dataset_size${method_flags:+, method flags $method_flags}"
 rows=$out/rows
 
 if [ $charts_only = 0 ]; then
