@@ -6,6 +6,11 @@
 #      and the activated values we wrote (positions, exp scales, sigmoid opacity, DC colour,
 #      quaternions as written) per column: min, max and mean within 1e-4 relative (it prints
 #      6 digits; its mean is the activation of the raw column's mean).
+#   3. KHR_gaussian_splatting: `refrax export gaussians.ply --glb` against splat-transform's own
+#      .glb of the same PLY, compared with the extension's definitions (scripts/glb-crosscheck.py:
+#      positions, rotations, scales, opacities, and the SH colour along directions, each writer's
+#      axes accounted for). (The Khronos validator predates the extension: it flags its attribute
+#      names, so the .glb is not given to it.)
 # Both tools are installed at pinned versions into <build>/npm (ignored by git) on first use.
 # They need node >= 20 (what they were checked on; splat-transform asks for 22), and bookworm's
 # own nodejs is 18: where the machine's node is older, node itself comes from the npm registry
@@ -118,4 +123,8 @@ for p in problems:
     print("  " + p)
 sys.exit(1 if problems else 0)
 EOF
+# 3. The Gaussians as KHR_gaussian_splatting: ours against splat-transform's writer.
+"$REFRAX" export "$WORK/gaussians.ply" --glb "$WORK/refrax.glb" > /dev/null || die "refrax export --glb failed"
+"$SPLAT_TRANSFORM" -q -w "$WORK/gaussians.ply" "$WORK/splat-transform.glb" || die "splat-transform could not write a .glb of gaussians.ply"
+python3 "$ROOT/scripts/glb-crosscheck.py" "$WORK/refrax.glb" "$WORK/splat-transform.glb" || die "refrax's .glb and splat-transform's disagree"
 echo "interop-check: passed"

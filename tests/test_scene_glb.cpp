@@ -144,6 +144,13 @@ TEST_CASE("glb export: refrax export writes the splats and the refractive water,
   REQUIRE(loader.LoadBinaryFromFile(&s, &err, &warn, dir / "splats.glb"));
   CHECK(s.meshes.size() == 1);
 
+  // any 3DGS PLY: its Gaussians alone, at SH degree 3
+  REQUIRE(test::runCli("export " + run + "/point_cloud.ply --glb " + dir / "ply.glb").exitCode == 0);
+  tinygltf::Model p;
+  REQUIRE(loader.LoadBinaryFromFile(&p, &err, &warn, dir / "ply.glb"));
+  CHECK(p.meshes.size() == 1);
+  CHECK(p.meshes[0].primitives[0].attributes.count("KHR_gaussian_splatting:SH_DEGREE_3_COEF_6"));
+
   test::checkOneError(test::runCli("export " + run), "--glb");
   test::checkOneError(test::runCli("export " + run + " --glb " + dir / "scene.gltf"), "must end in .glb");
   test::checkOneError(test::runCli("export " + dir / "nothing" + " --glb " + dir / "x.glb"), "nothing");

@@ -1,7 +1,7 @@
 // refrax export RUN --glb FILE: what a run learned as one binary glTF that other viewers open
 // (engine/model/scene_glb.h): the Gaussians as KHR_gaussian_splatting and the learned water as
 // a refractive mesh. Reads the run's files (config.json, point_cloud.ply, water_height.npy);
-// no device.
+// no device. Given a 3DGS PLY instead of a run, writes its Gaussians alone.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -43,9 +43,15 @@ GlbWater learnedWater(const std::string& run, const TrainConfig& c) {
 }
 
 int runExport(const cli::Args& a) {
-  if (a.positional.size() != 1) fail("refrax export needs one run folder (refrax export RUN --glb FILE)");
+  if (a.positional.size() != 1) fail("refrax export needs one run folder or 3DGS PLY (refrax export RUN --glb FILE)");
   if (!a.has("glb")) fail("refrax export needs --glb FILE (the only format it writes)");
   const std::string run = a.positional[0], out = a.get("glb");
+  if (fs::path(run).extension() == ".ply") {  // any 3DGS PLY: its Gaussians alone, every SH degree it holds
+    const GltfSplats splats = gltfSplatsFrom(readGaussiansPly(run), 3);
+    writeSceneGlb(out, splats, std::nullopt);
+    std::printf("%s: %zu Gaussians (SH degree 3)\n", out.c_str(), splats.count);
+    return 0;
+  }
   const TrainConfig c = readRunConfig(run);
   const std::string ply = (fs::path(run) / "point_cloud.ply").string();
   if (!fs::exists(ply)) fail(run + " has no point_cloud.ply (a run writes it when training ends)");
@@ -61,7 +67,7 @@ int runExport(const cli::Args& a) {
 }
 
 REFRAX_COMMAND({"export", "a run as one .glb other viewers open: KHR_gaussian_splatting and the water",
-                "refrax export RUN --glb FILE [--splats-only]",
+                "refrax export RUN --glb FILE [--splats-only]    (or SCENE.ply: any 3DGS PLY's Gaussians)",
                 {{"glb", "FILE", "the binary glTF to write (atomically): the Gaussians, and the learned water as a refractive mesh", ""},
                  {"splats-only", "", "the Gaussians alone, without the water", ""}},
                 runExport});
