@@ -3,8 +3,8 @@
 // whose attributes are each splat's position, rotation, scale, opacity and SH coefficients):
 // activated values in glTF axes, ready to be written as accessors (engine/model/scene_glb.h).
 //
-// Axes: glTF (x, y, z) = Refrax (x, z, -y), a rotation of -90 degrees about x (as the water's
-// glTF, engine/surface/gltf_surface.h). The data are turned, not the node: positions and
+// Axes: glTF (x, y, z) = Refrax (x, z, -y), a rotation of -90 degrees about x
+// (engine/io/gltf_axes.h). The data are turned, not the node: positions and
 // rotations by the rotation, and each SH degree by its rotation matrix, so viewers that ignore
 // a node's rotation for the SH (the extension says they SHOULD apply it) still colour right.
 // Values: scale exp(log sigma), opacity sigmoid(logit density), rotation the unit quaternion
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "engine/gaussian/gaussians.h"
+#include "engine/io/gltf_axes.h"
 
 namespace refrax {
 
@@ -34,11 +35,5 @@ GltfSplats gltfSplatsFrom(const GaussianSet& set, uint32_t shDegree);
 // degree-l coefficients in Refrax axes to glTF axes: the colour seen along R d from the
 // turned coefficients is the colour seen along d from the old (R: Refrax -> glTF axes).
 std::vector<double> shRotationToGltf(uint32_t degree);
-
-// Refrax axes -> glTF axes, for a point or a direction.
-inline void toGltfAxes(const float* in, float* out) {
-  const float x = in[0], y = in[1], z = in[2];
-  out[0] = x, out[1] = z, out[2] = -y;
-}
 
 }  // namespace refrax

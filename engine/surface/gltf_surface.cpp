@@ -15,6 +15,7 @@
 
 #include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
+#include "engine/io/gltf_axes.h"
 
 namespace refrax {
 namespace {
@@ -27,10 +28,6 @@ std::string lowerExtension(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
 }
-
-// Refrax (x, y, z) -> glTF (x, z, -y) and back (see the header).
-glm::dvec3 toGltfAxes(glm::dvec3 p) { return {p.x, p.z, -p.y}; }
-glm::dvec3 fromGltfAxes(glm::dvec3 p) { return {p.x, -p.z, p.y}; }
 
 void checkMesh(const SurfaceMesh& mesh, const std::string& path) {
   const std::string what = "glTF export " + path + ": ";
@@ -48,8 +45,18 @@ void checkMesh(const SurfaceMesh& mesh, const std::string& path) {
     if (index >= mesh.vertexCount()) fail(what + "index " + std::to_string(index) + " is out of range (" + std::to_string(mesh.vertexCount()) + " vertices)");
 }
 
-// Appends `bytes` to buffer 0 (4-byte aligned) as a new buffer view; returns its index.
-int addView(tinygltf::Model& model, const void* bytes, size_t size, int target) {
+std::vector<float> convertedToGltf(const std::vector<float>& xyz) {
+  std::vector<float> out(xyz.size());
+  for (size_t i = 0; i < xyz.size(); i += 3) {
+    glm::dvec3 g = toGltfAxes({xyz[i], xyz[i + 1], xyz[i + 2]});
+    out[i] = float(g.x), out[i + 1] = float(g.y), out[i + 2] = float(g.z);
+  }
+  return out;
+}
+
+}  // namespace
+
+int addGltfView(tinygltf::Model& model, const void* bytes, size_t size, int target) {
   auto& data = model.buffers[0].data;
   while (data.size() % 4) data.push_back(0);
   tinygltf::BufferView view;
@@ -63,32 +70,41 @@ int addView(tinygltf::Model& model, const void* bytes, size_t size, int target) 
   return int(model.bufferViews.size() - 1);
 }
 
-int addVec3Accessor(tinygltf::Model& model, const std::vector<float>& xyz, bool withBounds) {
+int addGltfFloatAccessor(tinygltf::Model& model, const std::vector<float>& values, int components, bool withBounds) {
   tinygltf::Accessor a;
-  a.bufferView = addView(model, xyz.data(), xyz.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+  a.bufferView = addGltfView(model, values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
   a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  a.type = TINYGLTF_TYPE_VEC3;
-  a.count = xyz.size() / 3;
+  a.type = components == 1 ? TINYGLTF_TYPE_SCALAR : components == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4;
+  a.count = values.size() / size_t(components);
   if (withBounds) {
-    a.minValues.assign(3, std::numeric_limits<double>::infinity());
-    a.maxValues.assign(3, -std::numeric_limits<double>::infinity());
-    for (size_t i = 0; i < xyz.size(); i++) {
-      a.minValues[i % 3] = std::min(a.minValues[i % 3], double(xyz[i]));
-      a.maxValues[i % 3] = std::max(a.maxValues[i % 3], double(xyz[i]));
+    a.minValues.assign(size_t(components), std::numeric_limits<double>::infinity());
+    a.maxValues.assign(size_t(components), -std::numeric_limits<double>::infinity());
+    for (size_t i = 0; i < values.size(); i++) {
+      a.minValues[i % components] = std::min(a.minValues[i % components], double(values[i]));
+      a.maxValues[i % components] = std::max(a.maxValues[i % components], double(values[i]));
     }
   }
   model.accessors.push_back(a);
   return int(model.accessors.size() - 1);
 }
 
-std::vector<float> convertedToGltf(const std::vector<float>& xyz) {
-  std::vector<float> out(xyz.size());
-  for (size_t i = 0; i < xyz.size(); i += 3) {
-    glm::dvec3 g = toGltfAxes({xyz[i], xyz[i + 1], xyz[i + 2]});
-    out[i] = float(g.x), out[i + 1] = float(g.y), out[i + 2] = float(g.z);
-  }
-  return out;
+tinygltf::Primitive surfaceMeshPrimitive(tinygltf::Model& model, const SurfaceMesh& mesh, const std::string& path) {
+  checkMesh(mesh, path);
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.attributes["POSITION"] = addGltfFloatAccessor(model, convertedToGltf(mesh.positions), 3, true);
+  if (!mesh.normals.empty()) prim.attributes["NORMAL"] = addGltfFloatAccessor(model, convertedToGltf(mesh.normals), 3, false);
+  tinygltf::Accessor indices;
+  indices.bufferView = addGltfView(model, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  indices.type = TINYGLTF_TYPE_SCALAR;
+  indices.count = mesh.indices.size();
+  model.accessors.push_back(indices);
+  prim.indices = int(model.accessors.size() - 1);
+  return prim;
 }
+
+namespace {
 
 // ---- reading
 
@@ -218,22 +234,11 @@ SurfaceMesh surfaceMeshFromGrid(const GridMesh& grid) {
 void writeSurfaceGltf(const std::string& path, const SurfaceMesh& mesh) {
   const std::string ext = lowerExtension(path);
   if (ext != ".gltf" && ext != ".glb") fail("glTF export " + path + ": the file name must end in .gltf or .glb");
-  checkMesh(mesh, path);
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "Refrax";
   model.buffers.resize(1);
-  tinygltf::Primitive prim;
-  prim.mode = TINYGLTF_MODE_TRIANGLES;
-  prim.attributes["POSITION"] = addVec3Accessor(model, convertedToGltf(mesh.positions), true);
-  if (!mesh.normals.empty()) prim.attributes["NORMAL"] = addVec3Accessor(model, convertedToGltf(mesh.normals), false);
-  tinygltf::Accessor indices;
-  indices.bufferView = addView(model, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-  indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-  indices.type = TINYGLTF_TYPE_SCALAR;
-  indices.count = mesh.indices.size();
-  model.accessors.push_back(indices);
-  prim.indices = int(model.accessors.size() - 1);
+  tinygltf::Primitive prim = surfaceMeshPrimitive(model, mesh, path);
   while (model.buffers[0].data.size() % 4) model.buffers[0].data.push_back(0);
   tinygltf::Mesh m;
   m.name = "water_surface";

@@ -2,16 +2,19 @@
 // The water surface as a glTF 2.0 triangle mesh (tinygltf), for exporting a trained surface
 // and for swapping in any surface mesh (`--water mesh.gltf`).
 //
-// Axes: Refrax's world is +Z up (x, y horizontal, water heights along z); glTF is +Y up
-// (right-handed, metres). Files hold glTF axes, the structs here Refrax axes:
-//     glTF (x, y, z) = Refrax (x, z, -y)        Refrax (x, y, z) = glTF (x, -z, y)
-// a rotation of -90 degrees about x (a proper rotation: handedness and the triangles'
-// winding are kept, so a surface whose normals point up in Refrax points up in glTF).
+// Axes: files hold glTF's (+Y up), the structs here Refrax's (+Z up), turned as
+// engine/io/gltf_axes.h says (a proper rotation: a surface whose normals point up in Refrax
+// points up in glTF).
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "engine/surface/grid_mesh.h"
+
+namespace tinygltf {
+class Model;
+struct Primitive;
+}  // namespace tinygltf
 
 namespace refrax {
 
@@ -33,6 +36,14 @@ std::vector<float> vertexNormals(const std::vector<float>& positions, const std:
 // atomically (engine/io/atomic_file.h). refrax::Error for another extension, an empty or
 // inconsistent mesh (index out of range, non-finite value).
 void writeSurfaceGltf(const std::string& path, const SurfaceMesh& mesh);
+
+// For writers of larger scenes (engine/model/scene_glb.h): bytes appended to buffer 0 as a
+// view (4-byte aligned), a float accessor of 1, 3 or 4 components (min and max with
+// `withBounds`, which POSITION needs), and the mesh as a triangle primitive in glTF axes
+// (checked as writeSurfaceGltf checks it; refrax::Error naming `path`). Buffer 0 must exist.
+int addGltfView(tinygltf::Model& model, const void* bytes, size_t size, int target);
+int addGltfFloatAccessor(tinygltf::Model& model, const std::vector<float>& values, int components, bool withBounds);
+tinygltf::Primitive surfaceMeshPrimitive(tinygltf::Model& model, const SurfaceMesh& mesh, const std::string& path);
 
 // Reads a `.gltf` (buffers embedded or in files beside it) or `.glb`: every triangle primitive
 // of the nodes of the default scene (scene 0 when none is named; every mesh once, untransformed,
