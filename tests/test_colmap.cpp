@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -186,7 +187,7 @@ TEST_CASE("COLMAP dataset: a rig in COLMAP's own frame loads with up, proportion
   }
 }
 
-TEST_CASE("COLMAP dataset: a distorted camera is refused with the fix, missing and extra images are counted" * doctest::test_suite("one-backend")) {
+TEST_CASE("COLMAP dataset: every lens model loads, FOV and THIN_PRISM_FISHEYE are refused with the fix, missing and extra images are counted" * doctest::test_suite("one-backend")) {
   test::TrainTempDir dir;
   const std::string data = test::tinyDataset("nerfrac-primary-sine");
   Dataset original = loadDataset(data);
@@ -204,24 +205,50 @@ TEST_CASE("COLMAP dataset: a distorted camera is refused with the fix, missing a
   CHECK(notes.find("1 of the model's " + std::to_string(m.images.size()) + " images are not in") != std::string::npos);
   CHECK(notes.find("1 files in") != std::string::npos);
 
-  // every distortion model is refused with the fix, in the text and the binary format
+  // every distortion model loads, traced through its lens; the two without a ray in Refrax are
+  // refused with the fix; in the text and the binary format
   ColmapCamera& distorted = m.cameras[m.images[1].cameraId];  // a camera of an image on disk
-  const std::vector<std::pair<std::string, std::vector<double>>> models = {
-      {"SIMPLE_RADIAL", {50, 32, 24, 0.1}},
-      {"RADIAL", {50, 32, 24, 0.1, 0.01}},
-      {"OPENCV", {50, 50, 32, 24, 0.1, 0.01, 0, 0}},
-      {"FULL_OPENCV", {50, 50, 32, 24, 0.1, 0.01, 0, 0, 0.001, 0, 0, 0}}};
-  for (const auto& [model, params] : models)
+  const ColmapCamera pinhole = distorted;
+  const std::vector<std::tuple<std::string, std::vector<double>, LensKind>> models = {
+      {"SIMPLE_RADIAL", {50, 32, 24, 0.1}, LensKind::RadialTangential},
+      {"RADIAL", {50, 32, 24, 0.1, 0.01}, LensKind::RadialTangential},
+      {"OPENCV", {50, 50, 32, 24, 0.1, 0.01, 0, 0}, LensKind::RadialTangential},
+      {"FULL_OPENCV", {50, 50, 32, 24, 0.1, 0.01, 0, 0, 0.001, 0, 0, 0}, LensKind::RadialTangential},
+      {"OPENCV_FISHEYE", {50, 50, 32, 24, 0.01, 0, 0, 0}, LensKind::Fisheye},
+      {"SIMPLE_RADIAL_FISHEYE", {50, 32, 24, 0.01}, LensKind::Fisheye},
+      {"RADIAL_FISHEYE", {50, 32, 24, 0.01, 0.001}, LensKind::Fisheye}};
+  auto writeModel = [&](bool binary) {
+    fs::remove_all(folder / "sparse/0");
+    fs::create_directories(folder / "sparse/0");
+    writeColmapModel((folder / "sparse/0").string(), m, binary);
+  };
+  for (const auto& [model, params, kind] : models)
     for (bool binary : {false, true}) {
       INFO(model << (binary ? " (binary)" : " (text)"));
       distorted.model = model;
       distorted.params = params;
-      fs::remove_all(folder / "sparse/0");
-      fs::create_directories(folder / "sparse/0");
-      writeColmapModel((folder / "sparse/0").string(), m, binary);
-      CHECK_THROWS_WITH_AS(loadDataset(folder.string()), doctest::Contains("colmap image_undistorter"), Error);
-      CHECK_THROWS_WITH_AS(loadDataset(folder.string()), doctest::Contains(model.c_str()), Error);
+      writeModel(binary);
+      Dataset loaded = loadDataset(folder.string());
+      bool found = false;
+      for (const auto& [name, views] : loaded.splits)
+        for (const View& v : views)
+          if (v.name.find(m.images[1].name) != std::string::npos) {
+            found = true;
+            CHECK(v.camera.lens.kind == kind);
+            CHECK(v.camera.lens.radial[0] == params[params.size() == 4 || params.size() == 5 ? 3 : 4]);
+            CHECK(v.camera.fx == params[0]);
+          }
+      CHECK(found);
     }
+  for (const std::string model : {"FOV", "THIN_PRISM_FISHEYE"}) {
+    distorted.model = model;
+    distorted.params = std::vector<double>(colmapParamCount(model), 0.0);
+    distorted.params[0] = distorted.params[1] = 50;
+    writeModel(false);
+    CHECK_THROWS_WITH_AS(loadDataset(folder.string()), doctest::Contains("colmap image_undistorter"), Error);
+    CHECK_THROWS_WITH_AS(loadDataset(folder.string()), doctest::Contains(model.c_str()), Error);
+  }
+  distorted = pinhole;
 
   DatasetOptions up;
   up.up = glm::dvec3(0, 0, 1);

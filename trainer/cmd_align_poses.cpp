@@ -11,6 +11,7 @@
 
 #include "engine/base/error.h"
 #include "engine/dataset/dataset.h"
+#include "engine/dataset/dataset_json.h"
 #include "engine/dataset/pose_alignment.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
@@ -80,8 +81,10 @@ void writeAligned(const std::string& out, const Dataset& colmap, const Dataset& 
     const std::string file = m.key + source.extension().string();
     fs::create_directories((fs::path(out) / file).parent_path());
     fs::copy_file(source, fs::path(out) / file, fs::copy_options::overwrite_existing);
-    frames[m.split].push_back({{"file_path", "./" + file}, {"transform_matrix", rows(m.aligned)}, {"fl_x", c.fx}, {"fl_y", c.fy},
-                               {"cx", c.cx}, {"cy", c.cy}, {"w", c.width}, {"h", c.height}});
+    nlohmann::json frame = {{"file_path", "./" + file}, {"transform_matrix", rows(m.aligned)}, {"fl_x", c.fx}, {"fl_y", c.fy},
+                            {"cx", c.cx}, {"cy", c.cy}, {"w", c.width}, {"h", c.height}};
+    addTransformsLens(frame, c.lens);  // COLMAP's lens, traced as it is
+    frames[m.split].push_back(frame);
   }
   for (const auto& [split, f] : frames) writeJson(out + "/transforms_" + split + ".json", {{"frames", f}});
   copyGroundTruth(truth.root, out);

@@ -25,8 +25,8 @@ int runInspect(const cli::Args& args) {
   for (const std::string& note : d.notes) std::printf("  %s\n", note.c_str());
   for (const auto& [name, views] : d.splits) {
     const Camera& c = views[0].camera;
-    std::printf("  %-6s %3zu views, %dx%d, fx %.2f fy %.2f cx %.2f cy %.2f (first view)\n", name.c_str(), views.size(), c.width, c.height,
-                c.fx, c.fy, c.cx, c.cy);
+    std::printf("  %-6s %3zu views, %dx%d, fx %.2f fy %.2f cx %.2f cy %.2f, lens %s (first view)\n", name.c_str(), views.size(), c.width,
+                c.height, c.fx, c.fy, c.cx, c.cy, lensDescription(c.lens).c_str());
   }
   const auto& train = d.split("train");
   std::vector<Camera> cams = camerasOf(train);

@@ -96,7 +96,9 @@ int runRender(const cli::Args& args) {
     for (size_t i = 0; i < views.size(); i++) {
       char name[48];
       std::snprintf(name, sizeof name, "%s_%03zu.png", split.c_str(), i);
-      cameras.push_back({name, views[i].camera});
+      Camera c = views[i].camera;
+      if (args.has("undistort")) c.lens = Lens{};  // the same focal length and principal point, straight lines straight
+      cameras.push_back({name, c});
     }
   }
   std::optional<AnalyticHeightField> swap;
@@ -130,6 +132,7 @@ int runRender(const cli::Args& args) {
 std::vector<cli::Option> renderOptions() {
   std::vector<cli::Option> o = {{"output", "DIR", "folder for the PNGs (-o); must not exist or be empty; appears only once every image is written", ""},
                                 {"split", "NAME", "dataset split to render (test, train, air, ...)", "test"},
+                                {"undistort", "", "draw the split's views through a pinhole of the same focal length and principal point instead of their lens (a distorted or fisheye camera's view with straight lines straight)", ""},
                                 {"camera", "x,y,z,tx,ty,tz", "one look-at camera instead of a split (world up +z)", ""},
                                 {"width", "PIXELS", "image width with --camera", "256"},
                                 {"height", "PIXELS", "image height with --camera", "256"},

@@ -76,6 +76,9 @@ int runSynth(const cli::Args& args) {
   variation.tiltDeg = args.getDouble("tilt", 0.0);
   if (args.has("rig-spacing")) variation.rigSpacing = args.getDouble("rig-spacing", 0.0);
   if (args.has("ior")) variation.ior = args.getDouble("ior", 0.0);
+  variation.cameraModel = args.get("camera-model", "pinhole");
+  // A random scene sizes its water's domain to its pinhole views' footprint.
+  if (drawn && variation.cameraModel != "pinhole") fail("synth: --camera-model is for the presets; random scenes use pinhole cameras");
   synth::applySynthVariation(preset, variation);
   if (args.has("rim")) synth::addSynthRim(preset, args.getDouble("rim", 0.0), textureDir);
   synth::SynthWriteOptions o;
@@ -96,7 +99,7 @@ int runSynth(const cli::Args& args) {
 }
 
 REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-truth water (CPU)",
-                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--rim HALF] [--dry] [--textures DIR]\n"
+                "refrax synth <preset> -o DIR [--size tiny|full] [--seed N] [--camera-model pinhole|opencv|fisheye] [--rim HALF] [--dry] [--textures DIR]\n"
                 "       presets: nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown\n"
                 "       random: a scene drawn from --seed N (1-4 sines and ripples, slope bound 0.08-0.75, IOR 1.1-1.5, a 3x3-5x5\n"
                 "               top-down grid or a ring of 12-30 views at 15-50 deg, 96-400 px, floor relief, 1-6 objects, a dry rim\n"
@@ -110,6 +113,7 @@ REFRAX_COMMAND({"synth", "generate a synthetic refraction dataset with ground-tr
                  {"rig-spacing", "M", "NeRFrac-like presets: the 3 x 3 rig's cameras M (0..0.6) apart instead of 0.2, same height and view axes (baseline sweeps)", "0.2"},
                  {"tilt", "DEG", "NeRFrac-like presets: the 3 x 3 rig turned rigidly DEG (0..60) from the vertical about the pool-floor centre, which the centre camera keeps looking at (camera-tilt sweeps)", "0"},
                  {"ior", "X", "index of refraction of the water, 1 < X <= 2 (recorded in water.json)", "the preset's (1.1 NeRFrac-like, 1.33 RefracGS-like)"},
+                 {"camera-model", "pinhole|opencv|fisheye", "every camera through a lens, the pixel count kept: opencv = OpenCV's barrel distortion k1 = -0.25 at the same focal length, fisheye = an equidistant fisheye spanning 180 deg across the diagonal; written as transforms.json's camera_model and k1..k4, p1, p2 (nerfstudio's fields), traced as such by train, render and eval; no LLFF layout", "pinhole"},
                  {"rim", "HALF", "a dry textured rim (a pool's edge) around the water, visible from every view so that structure from motion (COLMAP) can pose them: the water shrinks to +-HALF m around the domain's centre, the rim reaches out to +-2 HALF m, its top just above the highest crest (water.json's domain and ground truth follow)", ""},
                  {"dry", "", "the dry control: the same dataset (cameras, scene, water.json) with the training and test views rendered without the water; train it with --no-refraction for the Gaussians' own ceiling", ""},
                  {"textures", "DIR", "texture folder (also REFRAX_TEXTURES); default: the repository's assets/textures", ""}},

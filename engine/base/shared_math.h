@@ -24,7 +24,8 @@
   using uint = uint32_t;                                                                            \
   using glm::abs, glm::clamp, glm::cross, glm::dot, glm::length, glm::max, glm::min, glm::mix,      \
       glm::normalize, glm::sign, glm::floor, glm::fract, glm::transpose, glm::inverse;              \
-  using std::sqrt, std::exp, std::log, std::sin, std::cos, std::pow, std::isnan, std::isinf;
+  using std::sqrt, std::exp, std::log, std::sin, std::cos, std::pow, std::isnan, std::isinf, std::atan;                   \
+  inline T atan(T y, T x) { return std::atan2(y, x); } /* GLSL's two-argument atan */
 
 namespace refrax::f32 {
 REFRAX_SHARED_VOCABULARY(float, f)

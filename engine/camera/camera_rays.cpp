@@ -8,11 +8,11 @@ namespace refrax {
 namespace {
 
 struct RayPush {
-  float right[4], up[4], back[4], positionTmin[4], intrinsics[4];
-  uint32_t width, count, usePixelList;
+  float right[4], up[4], back[4], positionTmin[4], intrinsics[4], lensRadial[4], lensExtra[4];
+  uint32_t width, count, flags;  // flags: bit 0 the pixel list, bits 8-15 the lens kind
   float tmax;
 };
-static_assert(sizeof(RayPush) == 96, "RayPush must match camera_rays.comp");
+static_assert(sizeof(RayPush) == 128, "RayPush must match camera_rays.comp (and fit the 128 bytes every device has)");
 
 RayPush makePush(const Camera& c, uint32_t count, bool list, float tmin, float tmax) {
   if (c.width <= 0 || c.height <= 0 || !(c.fx > 0) || !(c.fy > 0)) fail("camera rays: the camera has no valid image size or focal length");
@@ -28,9 +28,13 @@ RayPush makePush(const Camera& c, uint32_t count, bool list, float tmin, float t
   push.intrinsics[1] = float(c.fy);
   push.intrinsics[2] = float(c.cx);
   push.intrinsics[3] = float(c.cy);
+  for (int a = 0; a < 4; a++) {
+    push.lensRadial[a] = float(c.lens.radial[a]);
+    push.lensExtra[a] = float(c.lens.extra[a]);
+  }
   push.width = uint32_t(c.width);
   push.count = count;
-  push.usePixelList = list ? 1u : 0u;
+  push.flags = (list ? 1u : 0u) | (uint32_t(c.lens.kind) << 8);
   push.tmax = tmax;
   return push;
 }

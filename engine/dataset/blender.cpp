@@ -33,6 +33,23 @@ bool has(const nlohmann::json& frame, const nlohmann::json& top, const char* key
   return (frame.is_object() && frame.contains(key)) || top.contains(key);
 }
 
+// The lens a frame (or the file) names: camera_model and k1..k4, p1, p2 (engine/camera/lens.h).
+Lens frameLens(const nlohmann::json& frame, const nlohmann::json& top, const std::string& where) {
+  LensFields fields;
+  if (has(frame, top, "camera_model")) {
+    const nlohmann::json& model = frame.contains("camera_model") ? frame["camera_model"] : top["camera_model"];
+    if (!model.is_string()) fail(where + ": 'camera_model' must be a string");
+    fields.cameraModel = model.get<std::string>();
+  }
+  fields.k1 = optionalNumber(frame, top, "k1", where, 0);
+  fields.k2 = optionalNumber(frame, top, "k2", where, 0);
+  fields.k3 = optionalNumber(frame, top, "k3", where, 0);
+  fields.k4 = optionalNumber(frame, top, "k4", where, 0);
+  fields.p1 = optionalNumber(frame, top, "p1", where, 0);
+  fields.p2 = optionalNumber(frame, top, "p2", where, 0);
+  return lensFromTransformsFields(fields, where);
+}
+
 std::vector<View> loadSplit(const std::string& folder, const std::string& file, const DatasetOptions& options) {
   const std::string path = folder + "/" + file;
   nlohmann::json top = readDatasetJson(path);
@@ -85,6 +102,8 @@ std::vector<View> loadSplit(const std::string& folder, const std::string& file, 
     cam.cy = optionalNumber(f, top, "cy", where, 0.5 * cam.height);
     if (!(cam.fx > 0) || !(cam.fy > 0) || !std::isfinite(cam.fx) || !std::isfinite(cam.fy))
       fail(where + ": the focal length is not a positive finite number");
+    cam.lens = frameLens(f, top, where);
+    checkLensCoversImage(cam, where);
     // every view of a split has the size of the first unless w/h say otherwise
     if (!views.empty() && expectW == 0 && (v.image.width != views[0].image.width || v.image.height != views[0].image.height))
       fail(where + ": image is " + std::to_string(v.image.width) + "x" + std::to_string(v.image.height) + ", the split's first is " +

@@ -9,7 +9,9 @@
 // Blender: transforms_train.json (required), transforms_test.json and any other
 //   transforms_<name>.json (extra splits). Intrinsics: camera_angle_x (fx = w / (2 tan(angle/2)),
 //   fy from camera_angle_y when given, else fx), or fl_x / fl_y / cx / cy / w / h (instant-ngp);
-//   a frame may override any of them. Principal point defaults to the image centre. frames[i]:
+//   a frame may override any of them. Principal point defaults to the image centre. Lens (as
+//   nerfstudio writes it): camera_model (OPENCV, OPENCV_FISHEYE; absent: OPENCV) with k1..k4,
+//   p1, p2 (absent: 0), traced as given, no undistortion (engine/camera/lens.h). frames[i]:
 //   file_path (relative to the dataset folder, with or without extension: .png .jpg .jpeg are
 //   tried) and transform_matrix (4x4 camera-to-world). RGBA images are composited on the
 //   background colour; grey images become RGB. Poses are used as given.
@@ -34,8 +36,9 @@
 //
 // COLMAP (a sparse model in sparse/0/, sparse/ or the folder itself: cameras, images and
 //   points3D as .bin or .txt, engine/dataset/colmap_model.h; images in images/ or images_<N>/
-//   with --llff-factor N, intrinsics divided by N). PINHOLE and SIMPLE_PINHOLE cameras; any
-//   other model is refused with the fix (`colmap image_undistorter`). Images registered but
+//   with --llff-factor N, intrinsics divided by N). Every COLMAP camera model but FOV and
+//   THIN_PRISM_FISHEYE, the distorted ones traced through their lens as they are (no
+//   undistortion; engine/camera/lens.h); those two are refused with the fix (`colmap image_undistorter`). Images registered but
 //   not on disk, or on disk but not registered, are left out and counted in Dataset::notes.
 //   The model's frame is arbitrary, so the loaded frame is derived for the water:
 //   1. Up (toward the cameras): --up X,Y,Z in the model's frame; else, when the cameras look

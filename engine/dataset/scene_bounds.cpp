@@ -5,15 +5,10 @@
 #include <string>
 
 #include "engine/base/error.h"
-#include "engine/reference/camera_rays_ref.h"
+#include "engine/camera/camera.h"
 
 namespace refrax {
 namespace {
-
-// Unit direction through continuous image coordinates (u, v) (pixel corners at integers).
-glm::dvec3 directionThrough(const Camera& c, double u, double v) {
-  return f64::pinholeDirection(c.right(), c.up(), c.back(), glm::dvec4(c.fx, c.fy, c.cx, c.cy), glm::dvec2(u, v));
-}
 
 // Refraction from air (index 1) into water (index ior) at a horizontal plane with normal +Z
 // (the flat-plane case of Snell's law in vector form; only used for these bounds).
@@ -22,6 +17,18 @@ glm::dvec3 refractDown(const glm::dvec3& d, double ior) {
   double eta = 1.0 / ior, cosI = -glm::dot(n, d);
   double k = 1.0 - eta * eta * (1.0 - cosI * cosI);  // > 0: no total reflection entering water
   return eta * d + (eta * cosI - std::sqrt(k)) * n;
+}
+
+// A fisheye sees up to its horizon and past it (a 180-degree lens looking down): its rays that
+// pass within kFisheyeReachDeg of the nadir are taken as they are, the others at that angle
+// in their own azimuth, so its footprint reaches tan(75 deg) = 3.7 times its height out.
+constexpr double kFisheyeReachDeg = 75;
+glm::dvec3 withinFisheyeReach(const glm::dvec3& d) {
+  const double reach = kFisheyeReachDeg * M_PI / 180;
+  const glm::dvec2 across(d.x, d.y);
+  if (d.z <= -std::cos(reach) || !(glm::length(across) > 0)) return d;
+  const glm::dvec2 azimuth = across / glm::length(across);
+  return glm::dvec3(azimuth * std::sin(reach), -std::cos(reach));
 }
 
 }  // namespace
@@ -35,7 +42,8 @@ std::vector<glm::dvec3> footprintOnPlane(const Camera& c, double h, std::vector<
   std::vector<glm::dvec3> hits;
   const double uv[5][2] = {{0, 0}, {W, 0}, {0, H}, {W, H}, {0.5 * W, 0.5 * H}};
   for (const auto& p : uv) {
-    glm::dvec3 d = directionThrough(c, p[0], p[1]);
+    glm::dvec3 d = c.rayDirection(p[0], p[1]);
+    if (c.lens.kind == LensKind::Fisheye) d = withinFisheyeReach(d);
     if (!(d.z < -1e-6))
       fail("scene bounds: a camera at (" + std::to_string(o.x) + ", " + std::to_string(o.y) + ", " + std::to_string(o.z) +
            ") sees above the water plane's horizon; give the surface domain and Gaussian box in water.json");

@@ -13,7 +13,9 @@
 //  - the scene extent (3DGS's getNerfppNorm): 1.1 * the largest distance of a camera centre from
 //    their mean, which scales the position learning rate and the densification thresholds.
 // Every camera must look down at the plane from above it with its whole image (a corner ray
-// that never meets the plane means the horizon is in view): otherwise one refrax::Error.
+// that never meets the plane means the horizon is in view): otherwise one refrax::Error. A
+// fisheye's rays (engine/camera/lens.h) count only out to 75 degrees from the nadir: beyond
+// that each is taken at 75 degrees in its own azimuth, so a 180-degree lens has bounds too.
 #include <vector>
 
 #include <glm/glm.hpp>

@@ -66,7 +66,7 @@ std::vector<std::string> sceneMismatches(const TrainConfig& c, const Dataset& ru
     const bool same = glm::length(a.position() - b.position()) <= 1e-3 * std::max(1.0, c.extent) &&
                       glm::dot(glm::normalize(a.back()), glm::normalize(b.back())) >= std::cos(1e-3) &&
                       glm::dot(glm::normalize(a.up()), glm::normalize(b.up())) >= std::cos(1e-3) &&
-                      near(a.fx / a.width, b.fx / b.width, 1e-3 * a.fx / a.width);
+                      near(a.fx / a.width, b.fx / b.width, 1e-3 * a.fx / a.width) && a.lens.kind == b.lens.kind;
     if (!same) {
       const glm::dvec3 p = b.position(), q = a.position();
       out.push_back("its training view " + std::to_string(i) + " (" + theirs[i].name + ") is a camera at (" + number(p.x) + ", " + number(p.y) +

@@ -163,7 +163,7 @@ nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& r
       Camera c = v.camera;
       for (int y = 0; y < c.height; y++)
         for (int x = 0; x < c.width; x++) {
-          glm::dvec3 d = glm::normalize(c.right() * ((x + 0.5 - c.cx) / c.fx) - c.up() * ((y + 0.5 - c.cy) / c.fy) - c.back());
+          glm::dvec3 d = c.rayDirection(x + 0.5, y + 0.5);
           double t = (m.config.waterHeight - c.position().z) / d.z;
           glm::dvec3 q = c.position() + t * d;
           if (t > 0 && q.x >= m.config.domain.xMin && q.x <= m.config.domain.xMax && q.y >= m.config.domain.yMin && q.y <= m.config.domain.yMax)

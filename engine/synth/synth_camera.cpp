@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "engine/camera/lens_math.h"
+
 namespace refrax::synth {
 
 namespace {
@@ -25,8 +27,9 @@ void setAxes(SynthCamera& c, const glm::dvec3& right, const glm::dvec3& up, cons
 glm::dvec3 cameraCentre(const SynthCamera& cam) { return glm::dvec3(cam.cameraToWorld[3]); }
 
 glm::dvec3 cameraRayDirection(const SynthCamera& cam, double px, double py) {
-  glm::dvec3 local((px - cam.cx) / cam.fx, -(py - cam.cy) / cam.fy, -1.0);
-  return glm::normalize(glm::dvec3(cam.cameraToWorld * glm::dvec4(local, 0.0)));
+  const glm::dmat4& m = cam.cameraToWorld;
+  return f64::cameraDirection(glm::dvec3(m[0]), glm::dvec3(m[1]), glm::dvec3(m[2]), glm::dvec4(cam.fx, cam.fy, cam.cx, cam.cy), int(cam.lens.kind),
+                              cam.lens.radial, cam.lens.extra, glm::dvec2(px, py));
 }
 
 SynthCamera lookAtCamera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& worldUp, int width, int height, double fovX) {

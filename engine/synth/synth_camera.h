@@ -1,8 +1,11 @@
 #pragma once
-// Pinhole cameras and the camera rigs of the synthetic datasets (NeRF/Blender convention:
-// camera-to-world, the camera looks down its -Z with +Y up; pixel centres at i + 0.5).
+// Cameras and the camera rigs of the synthetic datasets (NeRF/Blender convention:
+// camera-to-world, the camera looks down its -Z with +Y up; pixel centres at i + 0.5); a
+// pinhole unless --camera-model gives them a lens (engine/camera/lens.h).
 #include <glm/glm.hpp>
 #include <vector>
+
+#include "engine/camera/lens.h"
 
 namespace refrax::synth {
 
@@ -10,10 +13,12 @@ struct SynthCamera {
   glm::dmat4 cameraToWorld{1.0};
   int width = 0, height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;
+  Lens lens;
 };
 
 glm::dvec3 cameraCentre(const SynthCamera& cam);
-// Unit world-space direction through image point (px, py) in pixels (y down).
+// Unit world-space direction through image point (px, py) in pixels (y down), through the lens
+// (the same math as Refrax's own rays: shaders/include/camera_direction.glsl).
 glm::dvec3 cameraRayDirection(const SynthCamera& cam, double px, double py);
 // Camera at eye looking at target; its +Y is as close to worldUp as possible.
 SynthCamera lookAtCamera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& worldUp, int width, int height, double fovX);

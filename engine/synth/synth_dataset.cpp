@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "engine/base/error.h"
+#include "engine/dataset/dataset_json.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/staged_folder.h"
 #include "engine/io/image_io.h"
@@ -38,13 +39,14 @@ nlohmann::json matrixRows(const glm::dmat4& m) {
 }
 
 void addIntrinsics(nlohmann::json& j, const SynthCamera& c) {
-  j["camera_angle_x"] = 2 * std::atan(0.5 * c.width / c.fx);
+  if (!c.lens.distorts()) j["camera_angle_x"] = 2 * std::atan(0.5 * c.width / c.fx);
   j["fl_x"] = c.fx;
   j["fl_y"] = c.fy;
   j["cx"] = c.cx;
   j["cy"] = c.cy;
   j["w"] = c.width;
   j["h"] = c.height;
+  addTransformsLens(j, c.lens);
 }
 
 Image toImage(int width, int height, int channels, const std::vector<float>& pixels) {

@@ -248,6 +248,29 @@ SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t se
   return p;
 }
 
+namespace {
+
+void applyCameraModel(SynthPreset& p, const std::string& model) {
+  if (model == "pinhole") return;
+  if (model != "opencv" && model != "fisheye") fail("synth: --camera-model must be pinhole, opencv or fisheye, got '" + model + "'");
+  for (auto* cams : {&p.train, &p.test, &p.air})
+    for (auto& c : *cams) {
+      c.lens = Lens{};
+      if (model == "opencv") {
+        c.lens.kind = LensKind::RadialTangential;
+        c.lens.radial[0] = -0.25;
+      } else {
+        c.lens.kind = LensKind::Fisheye;
+        c.cx = 0.5 * c.width, c.cy = 0.5 * c.height;
+        c.fx = c.fy = std::hypot(c.cx, c.cy) / (0.5 * M_PI);  // theta = r / f: the corners 90 degrees off the axis
+      }
+    }
+  p.writeLlff = false;
+  p.description += model == "opencv" ? " (OpenCV lens, k1 = -0.25)" : " (equidistant fisheye, 180 degrees across the diagonal)";
+}
+
+}  // namespace
+
 void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
   auto positive = [](double x) { return std::isfinite(x) && x > 0; };
   if (!positive(v.amplitudeScale)) fail("synth: the wave amplitude scale must be a positive number");
@@ -323,6 +346,7 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
         c.cx *= s;
         c.cy *= s;
       }
+  applyCameraModel(p, v.cameraModel);
   checkSceneBelowWater(p);
 }
 

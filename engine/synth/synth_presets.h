@@ -52,13 +52,17 @@ SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t se
 // by `ior` when given. refrax::Error for a scale <= 0 or non-finite, a width outside 8..8192,
 // waves that would reach the scene, a spacing outside (0, 0.6] m, a tilt outside 0..60, a
 // spacing or a tilt on a preset without the rig, a camera that the tilt would put under the
-// wave crests, or an IOR outside (1, 2].
+// wave crests, or an IOR outside (1, 2]. cameraModel then gives every camera a lens, the
+// pixel count kept: "opencv" OpenCV's barrel distortion k1 = -0.25 at the same focal length;
+// "fisheye" an equidistant fisheye whose diagonal spans 180 degrees (the principal point at the
+// centre); NeRFrac's LLFF layout, which has no lens, is then not written.
 struct SynthVariation {
   int width = 0;
   double amplitudeScale = 1, wavelengthScale = 1;
   double tiltDeg = 0;
   std::optional<double> rigSpacing;
   std::optional<double> ior;
+  std::string cameraModel = "pinhole";  // or "opencv" (k1 = -0.25) or "fisheye" (180 degrees across the diagonal)
 };
 void applySynthVariation(SynthPreset& preset, const SynthVariation& variation);
 // refrax::Error unless every triangle over the water's domain (its x-y extent overlapping the

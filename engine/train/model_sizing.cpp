@@ -16,10 +16,10 @@ const std::vector<std::string>& sizedConfigKeys() {
 
 namespace {
 
-// Where the ray through pixel position (u, v) (pixel centres at integer + 0.5) meets the plane
-// z = h; false when it runs parallel to it or away from it.
+// Where the ray through pixel position (u, v) (pixel centres at integer + 0.5), through the
+// camera's lens, meets the plane z = h; false when it runs parallel to it or away from it.
 bool pixelOnPlane(const Camera& c, double u, double v, double h, glm::dvec3& at) {
-  const glm::dvec3 d = c.right() * ((u - c.cx) / c.fx) + c.up() * ((c.cy - v) / c.fy) - c.back();
+  const glm::dvec3 d = c.rayDirection(u, v);
   const glm::dvec3 o = c.position();
   if (std::abs(d.z) < 1e-12) return false;
   const double t = (h - o.z) / d.z;
