@@ -252,7 +252,7 @@ TEST_CASE("COLMAP dataset: every lens model loads, FOV and THIN_PRISM_FISHEYE ar
 
   DatasetOptions up;
   up.up = glm::dvec3(0, 0, 1);
-  CHECK_THROWS_WITH_AS(loadDataset(data, up), doctest::Contains("--up applies to COLMAP datasets only"), Error);
+  CHECK_THROWS_WITH_AS(loadDataset(data, up), doctest::Contains("--up applies to COLMAP and nerfstudio datasets only"), Error);
 }
 
 TEST_CASE("COLMAP dataset: a low ring of cameras takes up from the plane of their centres" * doctest::test_suite("one-backend")) {
@@ -326,7 +326,7 @@ TEST_CASE("Test views: named by index or file name in LLFF and COLMAP datasets, 
   bad.testViews.clear();
   for (size_t i = 0; i < n; i++) bad.testViews.push_back(std::to_string(i));
   CHECK_THROWS_WITH_AS(loadLlffDataset(data, bad), doctest::Contains("no training views remain"), Error);
-  CHECK_THROWS_WITH_AS(loadDataset(data, centre), doctest::Contains("applies to LLFF and COLMAP"), Error);
+  CHECK_THROWS_WITH_AS(loadDataset(data, centre), doctest::Contains("applies to LLFF, COLMAP and nerfstudio"), Error);
   test::CliResult both = test::runCli("inspect " + data + " --test-views 4 --llff-hold 2");
   CHECK(both.exitCode != 0);
   CHECK(both.output.find("give one") != std::string::npos);

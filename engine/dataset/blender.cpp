@@ -7,6 +7,7 @@
 #include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/dataset/dataset_json.h"
+#include "engine/dataset/transforms_frame.h"
 #include "engine/io/json_io.h"
 
 namespace refrax {
@@ -50,6 +51,65 @@ Lens frameLens(const nlohmann::json& frame, const nlohmann::json& top, const std
   return lensFromTransformsFields(fields, where);
 }
 
+}  // namespace
+
+View loadTransformsFrame(const std::string& folder, const nlohmann::json& f, const nlohmann::json& top, const std::string& where,
+                         const DatasetOptions& options, bool maskPathField) {
+  if (!f.is_object()) fail(where + ": expected a JSON object");
+  const nlohmann::json& fp = requireField(f, "file_path", where);
+  if (!fp.is_string()) fail(where + ": 'file_path' must be a string");
+  const nlohmann::json& tm = requireField(f, "transform_matrix", where);
+  glm::dmat4 c2w(1.0);
+  if (!tm.is_array() || tm.size() != 4) fail(where + ": 'transform_matrix' must be a 4x4 array");
+  for (int r = 0; r < 4; r++) {
+    if (!tm[r].is_array() || tm[r].size() != 4) fail(where + ": 'transform_matrix' must be a 4x4 array");
+    for (int c = 0; c < 4; c++) {
+      if (!tm[r][c].is_number()) fail(where + ": 'transform_matrix' holds a value that is not a number");
+      c2w[c][r] = tm[r][c].get<double>();  // JSON is row-major, glm column-major
+    }
+  }
+  validateCameraToWorld(c2w, where);
+
+  View v;
+  v.name = fp.get<std::string>();
+  int expectW = int(optionalNumber(f, top, "w", where, 0)), expectH = int(optionalNumber(f, top, "h", where, 0));
+  const std::string imagePath = resolveImage(folder, v.name, where);
+  v.image = loadViewImage(imagePath, expectW, expectH, options.background, where);
+  if (maskPathField && f.contains("mask_path")) {  // nerfstudio's: the frame names its mask, which must then exist
+    const nlohmann::json& mp = f["mask_path"];
+    if (!mp.is_string()) fail(where + ": 'mask_path' must be a string");
+    const std::string maskPath = resolveImage(folder, mp.get<std::string>(), where);
+    v.mask = loadViewMask(imagePath, maskPath, v.image.width, v.image.height, where);
+  } else {
+    // masks/<file_path>.png: "./train/000" -> masks/train/000.png
+    const std::string relative = fs::path(v.name).lexically_normal().generic_string();
+    v.mask = loadViewMask(imagePath, folder + "/masks/" + replaceExtension(relative, ".png"), v.image.width, v.image.height, where);
+  }
+  Camera& cam = v.camera;
+  cam.cameraToWorld = c2w;
+  cam.width = v.image.width;
+  cam.height = v.image.height;
+  if (has(f, top, "fl_x")) {
+    cam.fx = optionalNumber(f, top, "fl_x", where, 0);
+    cam.fy = optionalNumber(f, top, "fl_y", where, cam.fx);
+  } else if (has(f, top, "camera_angle_x")) {
+    double ax = optionalNumber(f, top, "camera_angle_x", where, 0);
+    cam.fx = 0.5 * cam.width / std::tan(0.5 * ax);
+    cam.fy = has(f, top, "camera_angle_y") ? 0.5 * cam.height / std::tan(0.5 * optionalNumber(f, top, "camera_angle_y", where, 0)) : cam.fx;
+  } else {
+    fail(where + ": no intrinsics (need camera_angle_x, or fl_x)");
+  }
+  cam.cx = optionalNumber(f, top, "cx", where, 0.5 * cam.width);
+  cam.cy = optionalNumber(f, top, "cy", where, 0.5 * cam.height);
+  if (!(cam.fx > 0) || !(cam.fy > 0) || !std::isfinite(cam.fx) || !std::isfinite(cam.fy))
+    fail(where + ": the focal length is not a positive finite number");
+  cam.lens = frameLens(f, top, where);
+  checkLensCoversImage(cam, where);
+  return v;
+}
+
+namespace {
+
 std::vector<View> loadSplit(const std::string& folder, const std::string& file, const DatasetOptions& options) {
   const std::string path = folder + "/" + file;
   nlohmann::json top = readDatasetJson(path);
@@ -59,51 +119,11 @@ std::vector<View> loadSplit(const std::string& folder, const std::string& file, 
   if (frames.empty()) fail(path + ": the split has no frames");
   std::vector<View> views;
   for (size_t i = 0; i < frames.size(); i++) {
-    const nlohmann::json& f = frames[i];
     const std::string where = path + ": frame " + std::to_string(i);
-    if (!f.is_object()) fail(where + ": expected a JSON object");
-    const nlohmann::json& fp = requireField(f, "file_path", where);
-    if (!fp.is_string()) fail(where + ": 'file_path' must be a string");
-    const nlohmann::json& tm = requireField(f, "transform_matrix", where);
-    glm::dmat4 c2w(1.0);
-    if (!tm.is_array() || tm.size() != 4) fail(where + ": 'transform_matrix' must be a 4x4 array");
-    for (int r = 0; r < 4; r++) {
-      if (!tm[r].is_array() || tm[r].size() != 4) fail(where + ": 'transform_matrix' must be a 4x4 array");
-      for (int c = 0; c < 4; c++) {
-        if (!tm[r][c].is_number()) fail(where + ": 'transform_matrix' holds a value that is not a number");
-        c2w[c][r] = tm[r][c].get<double>();  // JSON is row-major, glm column-major
-      }
-    }
-    validateCameraToWorld(c2w, where);
-
-    View v;
-    v.name = fp.get<std::string>();
-    int expectW = int(optionalNumber(f, top, "w", where, 0)), expectH = int(optionalNumber(f, top, "h", where, 0));
-    const std::string imagePath = resolveImage(folder, v.name, where);
-    v.image = loadViewImage(imagePath, expectW, expectH, options.background, where);
-    // masks/<file_path>.png: "./train/000" -> masks/train/000.png
-    const std::string relative = fs::path(v.name).lexically_normal().generic_string();
-    v.mask = loadViewMask(imagePath, folder + "/masks/" + replaceExtension(relative, ".png"), v.image.width, v.image.height, where);
-    Camera& cam = v.camera;
-    cam.cameraToWorld = c2w;
-    cam.width = v.image.width;
-    cam.height = v.image.height;
-    if (has(f, top, "fl_x")) {
-      cam.fx = optionalNumber(f, top, "fl_x", where, 0);
-      cam.fy = optionalNumber(f, top, "fl_y", where, cam.fx);
-    } else if (has(f, top, "camera_angle_x")) {
-      double ax = optionalNumber(f, top, "camera_angle_x", where, 0);
-      cam.fx = 0.5 * cam.width / std::tan(0.5 * ax);
-      cam.fy = has(f, top, "camera_angle_y") ? 0.5 * cam.height / std::tan(0.5 * optionalNumber(f, top, "camera_angle_y", where, 0)) : cam.fx;
-    } else {
-      fail(where + ": no intrinsics (need camera_angle_x, or fl_x)");
-    }
-    cam.cx = optionalNumber(f, top, "cx", where, 0.5 * cam.width);
-    cam.cy = optionalNumber(f, top, "cy", where, 0.5 * cam.height);
-    if (!(cam.fx > 0) || !(cam.fy > 0) || !std::isfinite(cam.fx) || !std::isfinite(cam.fy))
-      fail(where + ": the focal length is not a positive finite number");
-    cam.lens = frameLens(f, top, where);
-    checkLensCoversImage(cam, where);
+    // A Blender split's mask_path is not a loss mask (refrax synth writes its water-coverage
+    // masks there); nerfstudio's transforms.json's is.
+    View v = loadTransformsFrame(folder, frames[i], top, where, options, false);
+    const int expectW = int(optionalNumber(frames[i], top, "w", where, 0));
     // every view of a split has the size of the first unless w/h say otherwise
     if (!views.empty() && expectW == 0 && (v.image.width != views[0].image.width || v.image.height != views[0].image.height))
       fail(where + ": image is " + std::to_string(v.image.width) + "x" + std::to_string(v.image.height) + ", the split's first is " +

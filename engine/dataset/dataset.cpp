@@ -18,15 +18,18 @@ const std::vector<View>& Dataset::split(const std::string& name) const {
 
 Dataset loadDataset(const std::string& folder, const DatasetOptions& options) {
   const bool colmap = hasColmapModel(folder + "/sparse/0") || hasColmapModel(folder + "/sparse") || hasColmapModel(folder);
-  if (options.up && (!colmap || fileExists(folder + "/transforms_train.json") || fileExists(folder + "/poses_bounds.npy")))
-    fail("--up applies to COLMAP datasets only (" + folder + " is not one)");
-  if (!options.testViews.empty() && fileExists(folder + "/transforms_train.json"))
-    fail("--test-views applies to LLFF and COLMAP datasets (" + folder + " is a Blender dataset: its test views are transforms_test.json's)");
-  if (fileExists(folder + "/transforms_train.json")) return loadBlenderDataset(folder, options);
-  if (fileExists(folder + "/poses_bounds.npy")) return loadLlffDataset(folder, options);
+  const bool blender = fileExists(folder + "/transforms_train.json"), llff = fileExists(folder + "/poses_bounds.npy");
+  const bool nerfstudio = !blender && fileExists(folder + "/transforms.json");
+  if (options.up && (blender || llff || !(colmap || nerfstudio)))
+    fail("--up applies to COLMAP and nerfstudio datasets only (" + folder + " is not one)");
+  if (!options.testViews.empty() && blender)
+    fail("--test-views applies to LLFF, COLMAP and nerfstudio datasets (" + folder + " is a Blender dataset: its test views are transforms_test.json's)");
+  if (blender) return loadBlenderDataset(folder, options);
+  if (llff) return loadLlffDataset(folder, options);
+  if (nerfstudio) return loadNerfstudioDataset(folder, options);
   if (colmap) return loadColmapDataset(folder, options);
-  fail("no dataset in " + folder + ": expected transforms_train.json (NeRF/Blender), poses_bounds.npy (LLFF) or a COLMAP model "
-       "(sparse/0/cameras.bin or .txt)");
+  fail("no dataset in " + folder + ": expected transforms_train.json (NeRF/Blender), poses_bounds.npy (LLFF), transforms.json "
+       "(nerfstudio) or a COLMAP model (sparse/0/cameras.bin or .txt)");
 }
 
 void noteMasks(Dataset& d) {

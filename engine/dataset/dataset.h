@@ -54,6 +54,15 @@
 //   Test views: as LLFF (testViews, else every llffHold-th image in name order).
 //   `refrax inspect` prints the derived frame (Dataset::notes).
 //
+// nerfstudio (transforms.json, as ns-process-data writes it; no transforms_train.json): frames
+//   as a Blender split's (intrinsics and lens per frame or for the file), each frame's mask_path
+//   its mask. Test views: test_filenames (else val_filenames), train_filenames the training
+//   views (else the rest); without those lists, or with --test-views, as LLFF. The frame is
+//   the source's (COLMAP's, turned by applied_transform, which the poses already carry), so
+//   the water's is derived as for COLMAP (steps 1-4, --up in the file's frame) from the poses
+//   and the sparse points of ply_file_path (sparse_pc.ply; the file's units without them),
+//   unless water.json says "frame": "dataset" (then the poses are used as written).
+//
 // Masks (every format; engine/dataset/view_image.h): masks/<image's path>.png, the masks/
 //   folder mirroring the image folder (images_<N>/ -> masks_<N>/; Blender: masks/train/000.png
 //   for ./train/000), else <image>_mask.png beside the image (RefracGS's convention). Zero
@@ -133,12 +142,12 @@ struct SparsePoint {
 
 struct Dataset {
   std::string root;
-  std::string format;                             // "blender", "llff" or "colmap"
+  std::string format;                             // "blender", "llff", "colmap" or "nerfstudio"
   std::map<std::string, std::vector<View>> splits;  // "train", "test", ...
   WaterMetadata water;
   glm::dmat4 normalization{1.0};                  // original world -> loaded world (LLFF, COLMAP)
   std::vector<std::string> notes;                 // what the loader derived or left out, for `refrax inspect` and `train`
-  std::vector<SparsePoint> points;                // COLMAP's sparse points (--init-points); empty for other formats
+  std::vector<SparsePoint> points;                // COLMAP's or nerfstudio's sparse points (--init-points); empty for other formats
 
   const std::vector<View>& split(const std::string& name) const;  // refrax::Error when absent
 };
@@ -148,6 +157,7 @@ Dataset loadDataset(const std::string& folder, const DatasetOptions& options = {
 Dataset loadBlenderDataset(const std::string& folder, const DatasetOptions& options = {});
 Dataset loadLlffDataset(const std::string& folder, const DatasetOptions& options = {});
 Dataset loadColmapDataset(const std::string& folder, const DatasetOptions& options = {});
+Dataset loadNerfstudioDataset(const std::string& folder, const DatasetOptions& options = {});
 
 // Counts the views with masks into d.notes ("masks: N of M views").
 void noteMasks(Dataset& d);

@@ -9,21 +9,13 @@
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_math.h"
 #include "engine/io/atomic_file.h"
+#include "engine/io/ply_header.h"
 
 namespace refrax {
 
 namespace {
 
 using namespace f32;  // layout offsets
-
-size_t scalarBytes(const std::string& type) {
-  static const std::map<std::string, size_t> sizes = {{"char", 1},   {"uchar", 1},  {"int8", 1},    {"uint8", 1},   {"short", 2},
-                                                       {"ushort", 2}, {"int16", 2},  {"uint16", 2},  {"int", 4},     {"uint", 4},
-                                                       {"int32", 4},  {"uint32", 4}, {"float", 4},   {"float32", 4}, {"double", 8},
-                                                       {"float64", 8}};
-  auto it = sizes.find(type);
-  return it == sizes.end() ? 0 : it->second;
-}
 
 // Where each PLY float goes in the parameter layout, by property name.
 std::map<std::string, uint32_t> propertySlots(uint32_t restPerChannel) {
@@ -39,71 +31,14 @@ std::map<std::string, uint32_t> propertySlots(uint32_t restPerChannel) {
   return slots;
 }
 
-// A PLY header's vertex element: its count and its properties, in file order.
-struct PlyProperty {
-  std::string name;
-  size_t bytes;
-  bool isFloat;
-};
-struct PlyHeader {
-  size_t count = 0;
-  std::vector<PlyProperty> props;
-};
-
-PlyHeader readPlyHeader(std::istream& in, const std::string& where) {
-  std::string line;
-  if (!std::getline(in, line) || line != "ply") fail(where + " is not a PLY file");
-  bool binaryLE = false, inVertex = false, sawEnd = false;
-  PlyHeader h;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream ls(line);
-    std::string word;
-    ls >> word;
-    if (word == "format") {
-      std::string fmt;
-      ls >> fmt;
-      binaryLE = fmt == "binary_little_endian";
-      if (!binaryLE) fail(where + " is '" + fmt + "', only binary_little_endian is supported");
-    } else if (word == "element") {
-      std::string name;
-      ls >> name;
-      if (name == "vertex") {
-        if (!(ls >> h.count)) fail(where + ": bad vertex count");
-        inVertex = true;
-      } else {
-        long n = 0;
-        ls >> n;
-        if (n != 0) fail(where + ": unsupported element '" + name + "' (only 'vertex' is read)");
-        inVertex = false;
-      }
-    } else if (word == "property") {
-      std::string type, name;
-      ls >> type;
-      if (type == "list") fail(where + ": list properties are not supported");
-      ls >> name;
-      if (!inVertex) continue;
-      size_t bytes = scalarBytes(type);
-      if (bytes == 0) fail(where + ": unknown property type '" + type + "'");
-      h.props.push_back({name, bytes, type == "float" || type == "float32"});
-    } else if (word == "end_header") {
-      sawEnd = true;
-      break;
-    }
-  }
-  if (!sawEnd) fail(where + ": header has no end_header");
-  if (!binaryLE) fail(where + ": header has no binary_little_endian format line");
-  if (h.count == 0) fail(where + " holds no Gaussians");
-  return h;
-}
-
 }  // namespace
 
 GaussianSet readGaussiansPly(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("cannot open Gaussian PLY '" + path + "'");
   const std::string where = "Gaussian PLY '" + path + "'";
-  const PlyHeader header = readPlyHeader(in, where);
+  const PlyHeader header = readPlyHeader(in, where, "Gaussians");
+  if (header.ascii) fail(where + " is 'ascii', only binary_little_endian is supported");
   const std::vector<PlyProperty>& props = header.props;
   const size_t count = header.count;
 
@@ -120,7 +55,7 @@ GaussianSet readGaussiansPly(const std::string& path) {
     stride += props[i].bytes;
     auto it = slots.find(props[i].name);
     if (it == slots.end()) continue;
-    if (!props[i].isFloat) fail(where + ": property '" + props[i].name + "' must be float");
+    if (!props[i].isFloat()) fail(where + ": property '" + props[i].name + "' must be float");
     if (slotOf[i] != -1) fail(where + ": duplicate property '" + props[i].name + "'");
     slotOf[i] = int(it->second);
     slots.erase(it);
