@@ -2,20 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "engine/base/error.h"
+#include "engine/base/number_text.h"
 #include "engine/camera/camera.h"
 #include "engine/camera/lens_math.h"
 
 namespace refrax {
 namespace {
-
-std::string number(double v) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.6g", v);
-  return s;
-}
 
 // A radial-tangential lens with all terms zero is a pinhole (and traced as one).
 Lens radialTangential(double k1, double k2, double k3, double k4, double k5, double k6, double p1, double p2) {
@@ -47,22 +41,29 @@ const char* kindName(LensKind kind) {
 bool lensInvertsAt(const Lens& lens, const glm::dvec2& m, double tolerance) {
   const int kind = int(lens.kind);
   const glm::dvec3 d = f64::lensUnproject(kind, lens.radial, lens.extra, m);
-  if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) return false;
-  if (lens.kind == LensKind::Fisheye) {
-    double slope = 0, theta = std::atan2(glm::length(glm::dvec2(d)), d.z);
-    f64::lensFisheyeRadius(lens.radial, theta, slope);
-    if (!(slope > 0)) return false;
-  } else {
-    if (!(d.z > 0)) return false;
-    glm::dvec2 dx, dy, q = glm::dvec2(d) / d.z;
-    f64::lensRadialTangential(lens.radial, lens.extra, q, dx, dy);
-    if (!(dx.x * dy.y - dy.x * dx.y > 0)) return false;
-  }
+  if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || !lensImagesDirection(lens, d)) return false;
   const glm::dvec2 back = f64::lensProject(kind, lens.radial, lens.extra, d);
   return glm::length(back - m) <= tolerance;
 }
 
 }  // namespace
+
+bool lensImagesDirection(const Lens& lens, const glm::dvec3& d) {
+  if (lens.kind == LensKind::Fisheye) {
+    // Past the lens's largest angle its polynomial may turn back into the image.
+    const double theta = std::atan2(glm::length(glm::dvec2(d)), d.z);
+    double slope = 0;
+    const double thetaD = f64::lensFisheyeRadius(lens.radial, theta, slope);
+    return glm::length(d) > 0 && slope > 0 && (theta == 0 || thetaD > 0);
+  }
+  if (!(d.z > 0)) return false;
+  if (lens.kind == LensKind::Pinhole) return true;
+  // Likewise a distortion that folds over maps points far outside the image back into it.
+  const glm::dvec2 q = glm::dvec2(d) / d.z;
+  glm::dvec2 dx, dy;
+  const glm::dvec2 m = f64::lensRadialTangential(lens.radial, lens.extra, q, dx, dy);
+  return dx.x * dy.y - dy.x * dx.y > 0 && glm::dot(m, q) >= 0;
+}
 
 LensIntrinsics intrinsicsFromColmap(const std::string& model, const std::vector<double>& params, const std::string& where) {
   struct Known {
@@ -123,7 +124,7 @@ Lens lensFromTransformsFields(const LensFields& f, const std::string& where) {
   }
   if (f.cameraModel.empty() || f.cameraModel == "OPENCV" || f.cameraModel == "PINHOLE" || f.cameraModel == "SIMPLE_PINHOLE") {
     if (f.k4 != 0)
-      fail(where + ": k4 = " + number(f.k4) + " with camera_model " + (f.cameraModel.empty() ? "OPENCV" : f.cameraModel) +
+      fail(where + ": k4 = " + numberText(f.k4) + " with camera_model " + (f.cameraModel.empty() ? "OPENCV" : f.cameraModel) +
            " (nerfstudio's r^8 term) is a lens Refrax does not trace; OpenCV's model takes k1, k2, k3, p1, p2");
     return radialTangential(f.k1, f.k2, f.k3, 0, 0, 0, f.p1, f.p2);
   }
@@ -147,7 +148,7 @@ std::string lensDescription(const Lens& lens) {
   const char* names[8] = {"k1", "k2", "k3", "k4", "k5", "k6", "p1", "p2"};
   for (int i = 0; i < 8; i++) {
     const double v = i < 4 ? lens.radial[i] : lens.extra[i - 4];
-    if (v != 0) s += std::string(" ") + names[i] + " " + number(v);
+    if (v != 0) s += std::string(" ") + names[i] + " " + numberText(v);
   }
   return s;
 }
@@ -159,10 +160,10 @@ void checkLensCoversImage(const Camera& c, const std::string& where) {
   auto check = [&](double u, double v) {
     const glm::dvec2 m((u - c.cx) / c.fx, (v - c.cy) / c.fy);
     if (!lensInvertsAt(c.lens, m, tolerance))
-      fail(where + ": the " + std::string(kindName(c.lens.kind)) + " lens (k1..k4 " + number(c.lens.radial[0]) + " " + number(c.lens.radial[1]) +
-           " " + number(c.lens.radial[2]) + " " + number(c.lens.radial[3]) + ", k5 k6 p1 p2 " + number(c.lens.extra[0]) + " " +
-           number(c.lens.extra[1]) + " " + number(c.lens.extra[2]) + " " + number(c.lens.extra[3]) + ") has no ray for image point (" +
-           number(u) + ", " + number(v) + "): its distortion folds over there or its inverse does not converge");
+      fail(where + ": the " + std::string(kindName(c.lens.kind)) + " lens (k1..k4 " + numberText(c.lens.radial[0]) + " " + numberText(c.lens.radial[1]) +
+           " " + numberText(c.lens.radial[2]) + " " + numberText(c.lens.radial[3]) + ", k5 k6 p1 p2 " + numberText(c.lens.extra[0]) + " " +
+           numberText(c.lens.extra[1]) + " " + numberText(c.lens.extra[2]) + " " + numberText(c.lens.extra[3]) + ") has no ray for image point (" +
+           numberText(u) + ", " + numberText(v) + "): its distortion folds over there or its inverse does not converge");
   };
   const int n = 64;  // points per edge and diagonal
   for (int i = 0; i <= n; i++) {

@@ -43,6 +43,12 @@ Lens lensFromTransformsFields(const LensFields& fields, const std::string& where
 // The same fields for a camera (the synthesiser's writer): camera_model and the non-zero terms.
 LensFields transformsFieldsOf(const Lens& lens);
 
+// Whether the lens images camera-frame direction d (OpenCV's frame: x right, y down, z
+// forward) on its unfolded branch: in front of a perspective lens, where its distortion still
+// rises and does not flip the point across the centre (past that a folding model would map
+// far-off points back into the image).
+bool lensImagesDirection(const Lens& lens, const glm::dvec3& d);
+
 // "pinhole", or the kind and its non-zero coefficients ("fisheye (OpenCV equidistant) k1 0.01").
 std::string lensDescription(const Lens& lens);
 

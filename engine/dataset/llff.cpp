@@ -7,6 +7,7 @@
 #include "engine/dataset/dataset.h"
 #include "engine/dataset/view_image.h"
 #include "engine/base/error.h"
+#include "engine/base/number_text.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/npy.h"
 
@@ -18,11 +19,7 @@ namespace fs = std::filesystem;
 glm::dvec3 normalized(const glm::dvec3& v) { return v / glm::length(v); }
 
 // A value of the file as the message shows it (%g: any double, not only those an int holds).
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
+std::string number(double v) { return numberText(v); }
 
 std::vector<std::string> imageFiles(const std::string& dir) {
   std::vector<std::string> files;

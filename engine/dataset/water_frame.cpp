@@ -2,19 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "engine/base/error.h"
+#include "engine/base/number_text.h"
 #include "engine/dataset/symmetric_eigen.h"
 
 namespace refrax {
 namespace {
 
-std::string text(double v) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.4g", v);
-  return s;
-}
+std::string text(double v) { return numberText(v, 4); }
 
 std::string vectorText(const glm::dvec3& v) { return "(" + text(v.x) + ", " + text(v.y) + ", " + text(v.z) + ")"; }
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "engine/base/error.h"
+#include "engine/base/number_text.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/json_io.h"
 #include "engine/gaussian/gaussian_adam.h"
@@ -29,12 +30,6 @@ Dataset loadRunDataset(const TrainConfig& c) {
 
 namespace {
 
-std::string number(double v) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.6g", v);
-  return s;
-}
-
 bool near(double a, double b, double tolerance) { return std::abs(a - b) <= tolerance; }
 
 }  // namespace
@@ -43,15 +38,15 @@ std::vector<std::string> sceneMismatches(const TrainConfig& c, const Dataset& ru
   std::vector<std::string> out;
   // Lengths to a millionth of the scene (the run's written values round-trip far closer).
   const double length = 1e-6 * std::max(1.0, c.extent);
-  if (!near(other.water.ior, c.ior, 1e-9)) out.push_back("its IOR is " + number(other.water.ior) + ", the run's " + number(c.ior));
+  if (!near(other.water.ior, c.ior, 1e-9)) out.push_back("its IOR is " + numberText(other.water.ior) + ", the run's " + numberText(c.ior));
   if (other.water.height && !near(*other.water.height, c.waterHeight, length))
-    out.push_back("its water height is " + number(*other.water.height) + ", the run's " + number(c.waterHeight));
+    out.push_back("its water height is " + numberText(*other.water.height) + ", the run's " + numberText(c.waterHeight));
   if (const auto& d = other.water.domain;
       d && !(near(d->xMin, c.domain.xMin, length) && near(d->xMax, c.domain.xMax, length) && near(d->yMin, c.domain.yMin, length) &&
              near(d->yMax, c.domain.yMax, length)))
-    out.push_back("its water domain is x " + number(d->xMin) + ".." + number(d->xMax) + ", y " + number(d->yMin) + ".." + number(d->yMax) +
-                  ", the run's x " + number(c.domain.xMin) + ".." + number(c.domain.xMax) + ", y " + number(c.domain.yMin) + ".." +
-                  number(c.domain.yMax));
+    out.push_back("its water domain is x " + numberText(d->xMin) + ".." + numberText(d->xMax) + ", y " + numberText(d->yMin) + ".." + numberText(d->yMax) +
+                  ", the run's x " + numberText(c.domain.xMin) + ".." + numberText(c.domain.xMax) + ", y " + numberText(c.domain.yMin) + ".." +
+                  numberText(c.domain.yMax));
   if (!other.splits.count("train") || !run.splits.count("train")) return out;
   const std::vector<View>& mine = run.split("train");
   const std::vector<View>& theirs = other.split("train");
@@ -69,8 +64,8 @@ std::vector<std::string> sceneMismatches(const TrainConfig& c, const Dataset& ru
                       near(a.fx / a.width, b.fx / b.width, 1e-3 * a.fx / a.width) && a.lens.kind == b.lens.kind;
     if (!same) {
       const glm::dvec3 p = b.position(), q = a.position();
-      out.push_back("its training view " + std::to_string(i) + " (" + theirs[i].name + ") is a camera at (" + number(p.x) + ", " + number(p.y) +
-                    ", " + number(p.z) + "), the run's at (" + number(q.x) + ", " + number(q.y) + ", " + number(q.z) + ") or looking elsewhere");
+      out.push_back("its training view " + std::to_string(i) + " (" + theirs[i].name + ") is a camera at (" + numberText(p.x) + ", " + numberText(p.y) +
+                    ", " + numberText(p.z) + "), the run's at (" + numberText(q.x) + ", " + numberText(q.y) + ", " + numberText(q.z) + ") or looking elsewhere");
       break;  // one camera says it; the rest would repeat it
     }
   }
