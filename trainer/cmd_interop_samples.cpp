@@ -2,7 +2,8 @@
 // tools: random Gaussians through the 3DGS PLY writer, with the count and per-column
 // statistics of the activated values other tools report (positions, exp scales, sigmoid
 // opacity, DC colour 0.5 + C0 f_dc, raw quaternions), and a wavy water surface through the
-// glTF exporter (.gltf and .glb).
+// glTF exporter (.gltf and .glb); and both in one scene .glb as `refrax export` writes a run
+// (the Gaussians as KHR_gaussian_splatting, the water as a refractive mesh).
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -16,6 +17,7 @@
 #include "engine/surface/grid_mesh.h"
 #include "engine/surface/gltf_surface.h"
 #include "engine/io/json_io.h"
+#include "engine/model/scene_glb.h"
 #include "engine/gaussian/ply_gaussians.h"
 #include "engine/app/cli.h"
 
@@ -86,7 +88,11 @@ int runInteropSamples(const cli::Args& args) {
   SurfaceMesh mesh = surfaceMeshFromGrid(grid);
   writeSurfaceGltf(dir + "/water_surface.gltf", mesh);
   writeSurfaceGltf(dir + "/water_surface.glb", mesh);
-  std::printf("wrote %s (%zu Gaussians), gaussians_expected.json, water_surface.gltf and .glb (%zu vertices, %zu triangles) in %s\n",
+  GlbWater water;
+  water.mesh = mesh;
+  water.thickness = 0.5;
+  writeSceneGlb(dir + "/scene.glb", gltfSplatsFrom(set, 3), water);
+  std::printf("wrote %s (%zu Gaussians), gaussians_expected.json, water_surface.gltf and .glb (%zu vertices, %zu triangles) and scene.glb (both) in %s\n",
               ply.c_str(), set.count(), mesh.vertexCount(), mesh.triangleCount(), dir.c_str());
   return 0;
 }
