@@ -205,3 +205,31 @@ TEST_CASE("synth: a bad --tilt, --rig-spacing or --ior is one clear error and le
   v.amplitudeScale = 3.2;  // crests at 0.08, above the low row's camera (0.077 after a 60 deg turn)
   CHECK_THROWS_WITH_AS(applySynthVariation(p, v), doctest::Contains("under the wave crests"), Error);
 }
+
+TEST_CASE("synth: a 3 x 3 rig holds four test views between its training cameras, each the centre of a 2 x 2 cell, spaced and tilted with the rig") {
+  for (const char* name : {"nerfrac-primary-sine", "desk-topdown"}) {
+    INFO(name);
+    SynthPreset p = makeSynthPreset(name, SynthSize::Tiny, 1, textureDir());
+    SynthVariation v;
+    if (p.tiltableRig) v.rigSpacing = 0.3, v.tiltDeg = 20;
+    applySynthVariation(p, v);
+    REQUIRE(p.between.size() == 4);
+    // The rig in row-major order with the centre (the test view) back in its cell.
+    std::vector<SynthCamera> rig = p.train;
+    rig.insert(rig.begin() + 4, p.test.front());
+    for (size_t k = 0; k < 4; k++) {
+      const size_t row = k / 2, col = k % 2;  // the cell whose corners are rig[(row + a) * 3 + col + b]
+      glm::dvec3 mean(0);
+      for (size_t a = 0; a < 2; a++)
+        for (size_t b = 0; b < 2; b++) mean += cameraCentre(rig[(row + a) * 3 + col + b]) / 4.0;
+      const glm::dvec3 o = cameraCentre(p.between[k]);
+      for (int axis = 0; axis < 3; axis++) CHECK(o[axis] == doctest::Approx(mean[axis]).epsilon(1e-12));
+      // Parallel to the rig, the same intrinsics.
+      for (int a = 0; a < 3; a++) CHECK(glm::length(glm::dvec3(p.between[k].cameraToWorld[a]) - glm::dvec3(p.test[0].cameraToWorld[a])) < 1e-12);
+      CHECK(p.between[k].fx == p.test[0].fx);
+      CHECK(p.between[k].width == p.test[0].width);
+    }
+  }
+  // The ring presets hold out six test views of their own and no between views.
+  CHECK(makeSynthPreset("desk", SynthSize::Tiny, 1, textureDir()).between.empty());
+}

@@ -88,9 +88,10 @@ int runSynth(const cli::Args& args) {
   o.dry = args.has("dry");
   // Stop between views on Ctrl-C so the temporary folder is removed rather than left behind.
   o.cancel = &cli::catchInterrupts();
-  std::printf("synth %s (%s, seed %ld): %zu train, %zu test, %zu air views, %d x %d px, %zu triangles -> %s\n", name.c_str(), size.c_str(),
-              seed, preset.train.size(), preset.test.size(), preset.air.size(), preset.train.front().width, preset.train.front().height,
-              preset.scene.bvh.triangles.size(), out.c_str());
+  const std::string between = preset.between.empty() ? "" : ", " + std::to_string(preset.between.size()) + " between";
+  std::printf("synth %s (%s, seed %ld): %zu train, %zu test%s, %zu air views, %d x %d px, %zu triangles -> %s\n", name.c_str(), size.c_str(),
+              seed, preset.train.size(), preset.test.size(), between.c_str(), preset.air.size(), preset.train.front().width,
+              preset.train.front().height, preset.scene.bvh.triangles.size(), out.c_str());
   std::fflush(stdout);
   synth::generateSynthDataset(preset, out, o);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

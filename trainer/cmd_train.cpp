@@ -98,6 +98,8 @@ void printSummary(const nlohmann::json& m) {
   if (m.contains("surface_correlation")) std::printf("  correlation with the true waves %.2f", m["surface_correlation"].get<double>());
   if (m.contains("surface_rmse_missing")) std::printf("  surface rmse n/a: %s", m["surface_rmse_missing"].get<std::string>().c_str());
   if (m.contains("water_removal_psnr")) std::printf("  water-removal psnr %.3f", m["water_removal_psnr"].get<double>());
+  if (m.contains("between_psnr"))
+    std::printf("  between-view psnr %.3f (%llu views)", m["between_psnr"].get<double>(), (unsigned long long)m["between_views"].get<uint64_t>());
   std::printf("  gaussians %llu  %.1f s\n", (unsigned long long)m["gaussians"].get<uint64_t>(), m["training_seconds"].get<double>());
 }
 

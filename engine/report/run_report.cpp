@@ -16,7 +16,7 @@ namespace {
 // metrics.json fields, then config.json fields (prefixed where a name would be ambiguous).
 const char* const kMetricColumns[] = {"model", "step", "psnr", "ssim", "surface_rmse", "initial_flat_surface_rmse", "surface_correlation",
                                       "water_removal_psnr", "surface_sweep_ratio", "surface_roughened", "missed_rays", "gaussians", "model_bytes",
-                                      "training_seconds"};
+                                      "training_seconds", "between_psnr", "between_ssim"};
 const char* const kConfigColumns[] = {"steps", "patch", "max_sh_degree", "initial_gaussians", "max_gaussians", "mlp_width", "mlp_hidden_layers",
                                       "mlp_octaves", "mlp_init_range", "grid_cells", "subdivision_levels", "face_normals_until", "density_loss",
                                       "ior", "seed"};

@@ -66,6 +66,13 @@ std::vector<SynthCamera> gridCameras(double cx, double cy, double z, double spac
   return cams;
 }
 
+std::vector<SynthCamera> betweenCameras(double cx, double cy, double z, double spacing, int width, int height, double fovX) {
+  std::vector<SynthCamera> cams;
+  for (double dy : {0.5, -0.5})
+    for (double dx : {-0.5, 0.5}) cams.push_back(downwardCamera({cx + dx * spacing, cy + dy * spacing, z}, width, height, fovX));
+  return cams;
+}
+
 SynthCamera tiltedAboutX(const SynthCamera& cam, const glm::dvec3& pivot, double angleDeg) {
   double c = std::cos(angleDeg * kDeg), s = std::sin(angleDeg * kDeg);
   // Columns: x kept, y -> (0, c, s), z -> (0, -s, c): +Z (a camera's back axis when it looks

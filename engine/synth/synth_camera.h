@@ -31,6 +31,9 @@ std::vector<SynthCamera> ringCameras(int count, double polarDeg, double radius, 
 // 3 x 3 grid of downward cameras at height z, centred on (cx, cy), `spacing` apart; row-major
 // from (-x, +y), so index 4 is the centre.
 std::vector<SynthCamera> gridCameras(double cx, double cy, double z, double spacing, int width, int height, double fovX);
+// The four downward cameras half way between that grid's centre and its corners, (+-s/2, +-s/2)
+// about (cx, cy): views between the training cameras, as far from each as a rig's views can be.
+std::vector<SynthCamera> betweenCameras(double cx, double cy, double z, double spacing, int width, int height, double fovX);
 // The camera turned rigidly by angleDeg about the world x axis through `pivot` (positive: its
 // centre moves towards -y, a downward view axis tips towards +y). Turning a whole downward rig
 // keeps its cameras parallel, each view axis angleDeg from the vertical, and a camera that

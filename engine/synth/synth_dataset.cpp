@@ -177,7 +177,7 @@ void writeSurfaceGltf(const std::string& path, const WaveSurface& w, int n) {
 }
 
 struct RenderJob {
-  std::string split;     // train, test, test_air, air
+  std::string split;     // train, test, test_air, air, between
   const SynthCamera* camera;
   size_t index;
   bool water;
@@ -212,6 +212,8 @@ RenderedSplits renderSplits(const SynthPreset& p, const std::string& dir, const 
   for (size_t i = 0; i < p.test.size(); i++) jobs.push_back({"test", &p.test[i], i, !o.dry});
   for (size_t i = 0; i < p.test.size(); i++) jobs.push_back({"test_air", &p.test[i], i, false});
   for (size_t i = 0; i < p.air.size(); i++) jobs.push_back({"air", &p.air[i], i, false});
+  // last, so every view before them keeps the sample jitter it had before this split existed
+  for (size_t i = 0; i < p.between.size(); i++) jobs.push_back({"between", &p.between[i], i, !o.dry});
 
   RenderSettings settings;
   settings.samplesPerAxis = p.samplesPerAxis;
@@ -222,7 +224,8 @@ RenderedSplits renderSplits(const SynthPreset& p, const std::string& dir, const 
   for (size_t k = 0; k < jobs.size(); k++) {
     if (o.cancel && o.cancel->load()) fail("synth: interrupted; nothing was written to the output folder");
     const RenderJob& job = jobs[k];
-    uint64_t key = mixKeys(k, job.split == "train" || job.split == "test" ? 1 : 2);  // the dry control's views jitter as the wet ones
+    const bool wetSplit = job.split == "train" || job.split == "test" || job.split == "between";
+    uint64_t key = mixKeys(k, wetSplit ? 1 : 2);  // the dry control's views jitter as the wet ones
     RenderedView v = renderView(p.scene, job.water ? &p.water : nullptr, p.ior, *job.camera, settings, key);
     std::string stem = indexName(job.index);
     writePng((fs::path(dir) / job.split / (stem + ".png")).string(), toImage(v.width, v.height, 3, v.rgb));
@@ -236,7 +239,8 @@ RenderedSplits renderSplits(const SynthPreset& p, const std::string& dir, const 
       double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       double eta = elapsed / double(k + 1) * double(jobs.size() - k - 1);
       std::printf("  %-8s %2zu/%zu  view %zu of %zu  elapsed %6.1f s  ETA %6.1f s\n", job.split.c_str(), job.index + 1,
-                  job.split == "air" ? p.air.size() : job.split == "train" ? p.train.size() : p.test.size(), k + 1, jobs.size(), elapsed,
+                  job.split == "air" ? p.air.size() : job.split == "train" ? p.train.size() : job.split == "between" ? p.between.size() : p.test.size(),
+                  k + 1, jobs.size(), elapsed,
                   eta);
       std::fflush(stdout);
     }
@@ -245,7 +249,8 @@ RenderedSplits renderSplits(const SynthPreset& p, const std::string& dir, const 
   return out;
 }
 
-// The Blender-format splits, transforms_{train,test,air}.json.
+// The Blender-format splits, transforms_{train,test,air}.json, and transforms_between.json where
+// the preset has views between its training cameras.
 void writeBlenderSplits(const SynthPreset& p, const std::string& dir, const SynthWriteOptions& o) {
   auto writeSplit = [&](const std::string& file, const std::string& split, const std::vector<SynthCamera>& cams, bool masks,
                         const std::string& airSplit) {
@@ -268,6 +273,7 @@ void writeBlenderSplits(const SynthPreset& p, const std::string& dir, const Synt
   writeSplit("transforms_train.json", "train", p.train, !o.dry, "");
   writeSplit("transforms_test.json", "test", p.test, !o.dry, "test_air");
   writeSplit("transforms_air.json", "air", p.air, false, "");
+  if (!p.between.empty()) writeSplit("transforms_between.json", "between", p.between, !o.dry, "");
 
 }
 
@@ -307,11 +313,12 @@ void writeWaterTruth(const SynthPreset& p, const std::string& dir, const SynthWr
                    {"up", "+Z: vertex positions are world coordinates, no node transform"}};
   water["masks"] = "masks/<split>_<index>.png: 1 where every sample of the pixel met the water surface inside its domain; rays that "
                    "miss the domain go on unrefracted";
-  water["images"] = "train/, test/: through the water; test_air/ and air/: the same scene with the water removed (test_air: the test "
-                    "cameras, air: the water-removal cameras); file paths in transforms_*.json omit the .png extension (Blender convention)";
+  water["images"] = "train/, test/ (and between/: more test views, between the training cameras): through the water; test_air/ and air/: "
+                    "the same scene with the water removed (test_air: the test cameras, air: the water-removal cameras); file paths in "
+                    "transforms_*.json omit the .png extension (Blender convention)";
   if (o.dry) {
     water["dry"] = true;
-    water["images"] = "the dry control (refrax synth --dry): train/ and test/ rendered with the water removed, the same cameras and scene "
+    water["images"] = "the dry control (refrax synth --dry): train/, test/ and between/ rendered with the water removed, the same cameras and scene "
                       "as the dataset without --dry; test_air/ and air/ as there; file paths in transforms_*.json omit the .png extension";
     water.erase("masks");
   }
@@ -357,6 +364,7 @@ void writeLlffLayout(const SynthPreset& p, const std::string& dir, const Rendere
 
 void writeSynthDataset(const SynthPreset& p, const std::string& dir, const SynthWriteOptions& o) {
   for (const char* sub : {"train", "test", "test_air", "air", "masks"}) fs::create_directories(fs::path(dir) / sub);
+  if (!p.between.empty()) fs::create_directories(fs::path(dir) / "between");
   if (p.writeLlff) fs::create_directories(fs::path(dir) / "images");
   const RenderedSplits rendered = renderSplits(p, dir, o);
   writeBlenderSplits(p, dir, o);

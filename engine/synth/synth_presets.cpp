@@ -218,6 +218,7 @@ SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t se
     auto grid = gridCameras(0, 0, 1.0, p.rigSpacing, w, w, 45 * kDeg);
     for (int i = 0; i < 9; i++) (i == 4 ? p.test : p.train).push_back(grid[i]);
     p.air = p.test;  // the water-removal view is the held-out centre view
+    p.between = betweenCameras(0, 0, 1.0, p.rigSpacing, w, w, 45 * kDeg);
     p.tiltableRig = true;
     p.rigPivot = {0, 0, -0.5};  // the top of the picture on the pool floor, 1.5 under the centre camera
     p.description = "NeRFrac-like synthetic scene: 3 x 3 downward cameras, centre held out, IOR 1.1, " + p.surfaceDescription;
@@ -232,6 +233,7 @@ SynthPreset makeSynthPreset(const std::string& name, SynthSize size, uint64_t se
       auto grid = gridCameras(0, 0, 1.3, 0.25, w, h, fov);
       for (int i = 0; i < 9; i++) (i == 4 ? p.test : p.train).push_back(grid[i]);
       p.air = p.test;
+      p.between = betweenCameras(0, 0, 1.3, 0.25, w, h, fov);
       p.description = "RefracGS-like '" + entry->family + "' scene, 9 downward cameras (centre held out), IOR 1.33";
     } else {
       p.train = ringCameras(12, 30, 2.0, 0, centre, w, h, fov);
@@ -253,7 +255,7 @@ namespace {
 void applyCameraModel(SynthPreset& p, const std::string& model) {
   if (model == "pinhole") return;
   if (model != "opencv" && model != "fisheye") fail("synth: --camera-model must be pinhole, opencv or fisheye, got '" + model + "'");
-  for (auto* cams : {&p.train, &p.test, &p.air})
+  for (auto* cams : {&p.train, &p.test, &p.air, &p.between})
     for (auto& c : *cams) {
       c.lens = Lens{};
       if (model == "opencv") {
@@ -310,7 +312,7 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
     // is parallel, so heights and view axes stay.
     const glm::dvec3 centre = cameraCentre(p.test.front());
     const double scale = *v.rigSpacing / p.rigSpacing;
-    for (auto* cams : {&p.train, &p.test, &p.air})
+    for (auto* cams : {&p.train, &p.test, &p.air, &p.between})
       for (auto& c : *cams) {
         glm::dvec3 o = cameraCentre(c);
         c.cameraToWorld[3] = glm::dvec4(centre.x + scale * (o.x - centre.x), centre.y + scale * (o.y - centre.y), o.z, 1.0);
@@ -321,7 +323,7 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
     p.rigSpacing = *v.rigSpacing;
   }
   if (v.tiltDeg != 0) {
-    for (auto* cams : {&p.train, &p.test, &p.air})
+    for (auto* cams : {&p.train, &p.test, &p.air, &p.between})
       for (auto& c : *cams) {
         c = tiltedAboutX(c, p.rigPivot, v.tiltDeg);
         // A camera between the crests would see the water from below: not this scene.
@@ -336,7 +338,7 @@ void applySynthVariation(SynthPreset& p, const SynthVariation& v) {
     p.description += what;
   }
   if (v.width != 0)
-    for (auto* cams : {&p.train, &p.test, &p.air})
+    for (auto* cams : {&p.train, &p.test, &p.air, &p.between})
       for (auto& c : *cams) {
         double s = double(v.width) / c.width;
         c.height = std::max(1, int(std::lround(c.height * s)));

@@ -24,6 +24,11 @@ struct SynthPreset {
   WaveSurface water;
   SynthScene scene;
   std::vector<SynthCamera> train, test, air;  // air: water-removal views (rendered without water)
+  // More test views, between the training cameras of a 3 x 3 rig (the diagonal midpoints), so
+  // a table's row is more than the one held-out centre view; evaluated apart from the test
+  // split, whose centre view is the NeRFrac protocol's (empty for the ring presets, which hold
+  // out six test views already).
+  std::vector<SynthCamera> between;
   bool writeLlff = false;                     // NeRFrac's poses_bounds.npy + images/ layout
   int samplesPerAxis = 2;
   int heightMapSize = 512;  // samples per side of water_gt_height.npy

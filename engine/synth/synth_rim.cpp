@@ -18,7 +18,7 @@ void addSynthRim(SynthPreset& p, double a, const std::string& textureDir) {
     fail(why);
   }
   const double top = w.meanHeight + waveHeightBound(w) + kRimFreeboard;
-  for (const auto* cams : {&p.train, &p.test, &p.air})
+  for (const auto* cams : {&p.train, &p.test, &p.air, &p.between})
     for (const auto& c : *cams) {
       glm::dvec3 o = cameraCentre(c);
       if (std::abs(o.x - cx) <= 2 * a && std::abs(o.y - cy) <= 2 * a && o.z <= top) fail("synth: --rim would put a camera inside the rim or under its top");
