@@ -25,7 +25,7 @@ def rig_of(dataset):
     frame = train['frames'][0]
     w, h = frame.get('w', train.get('w')), frame.get('h', train.get('h'))
     ring = 'ring' in water.get('description', '') or len(train['frames']) > 9
-    rig = f"{'rings' if ring else '3x3 top-down'}, {len(train['frames'])}+{len(test['frames'])} views"
+    rig = f"{'rings' if ring else '3x3 down'}, {len(train['frames'])}+{len(test['frames'])}"
     return rig, f'{w}x{h}'
 
 
@@ -39,7 +39,7 @@ def main():
     for k, v in shared.items():
         if len(v) != 1:
             sys.exit(f'readme-table: the rows differ in {k} ({sorted(v)}): not one table')
-    print('| preset | rig | px | IOR | refraction-sweep | `--flat-water` | `--no-refraction` | flat start RMSE | between views |')
+    print('| preset | rig, views | px | IOR | refraction-sweep | `--flat-water` | `--no-refraction` | flat start RMSE | between views |')
     print('| --- | --- | --- | --- | --- | --- | --- | --- | --- |')
     for preset in presets:
         found = sorted(glob.glob(os.path.join(sys.argv[2], preset + '_*')))
