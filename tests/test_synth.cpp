@@ -16,6 +16,7 @@
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
 #include "engine/loss/metrics.h"
+#include "engine/synth/bottom_truth.h"
 #include "engine/synth/render_view.h"
 #include "engine/synth/surface_intersect.h"
 #include "engine/synth/synth_dataset.h"
@@ -548,3 +549,50 @@ TEST_CASE("synth: --camera-model renders every view through its lens, written as
   CHECK(bad.output.find("--camera-model must be pinhole, opencv or fisheye") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "b"));
 }
+
+// The bed's truth on a floor whose only mark is a small white square: a flat floor's elevation
+// everywhere, the square where the grid's own layout puts it (water.json's "bottom"), in the
+// written files. The square (4 texels of 7.8 mm, 8 cells of the grid) is centred half way
+// between grid vertices, so 8 x 8 vertices see it, half a cell clear of its edges: a grid
+// shifted by half a cell, or a flipped orthophoto, moves its centroid by half a cell or more.
+TEST_CASE("synth: the bottom truth holds the floor's elevation and its colour seen straight down, on the height map's grid, north up") {
+  const double depth = 0.4, cell = 1.0 / 256;  // 257 vertices over the domain [-0.5, 0.5]^2, inside the 2 m floor
+  const glm::dvec2 marker(-0.5 + 160.5 * cell, -0.5 + 100.5 * cell);
+  SynthPreset p;
+  p.name = "marker";
+  p.scene = markerScene(depth, marker);
+  p.water.domain[0] = p.water.domain[1] = -0.5;
+  p.water.domain[2] = p.water.domain[3] = 0.5;
+  p.heightMapSize = 257;
+  p.meshGridSize = 9;
+  p.train = gridCameras(0, 0, 0.8, 0.2, 16, 16, 45 * M_PI / 180);
+  p.test = {p.train[4]};
+  p.air = p.test;
+  TempDir dir;
+  SynthWriteOptions o;
+  generateSynthDataset(p, dir / "d", o);
+  NpyArray elevation = readNpy(dir / "d/bottom_gt_height.npy");
+  Image ortho = readPng(dir / "d/bottom_gt_ortho.png");
+  REQUIRE(elevation.shape == std::vector<size_t>{257, 257});
+  REQUIRE(ortho.width == 257);
+  REQUIRE(ortho.height == 257);
+  for (double z : elevation.data) REQUIRE(z == doctest::Approx(-depth).epsilon(1e-6));
+  // The white vertices' centroid, each placed by the documented layout.
+  glm::dvec2 sum(0);
+  int white = 0;
+  for (int r = 0; r < 257; r++)
+    for (int i = 0; i < 257; i++) {
+      const int j = 256 - r;  // PNG row r is grid row ny - 1 - r
+      if (ortho.pixels[(size_t(r) * 257 + i) * ortho.channels] < 0.5f) continue;
+      sum += glm::dvec2(-0.5 + i * cell, -0.5 + j * cell);
+      white++;
+    }
+  INFO("white vertices " << white);
+  REQUIRE(white == 64);
+  CHECK(glm::length(sum / double(white) - marker) < 0.25 * cell);
+  nlohmann::json bottom = readJson(dir / "d/water.json")["bottom"];
+  CHECK(bottom["elevation"] == "bottom_gt_height.npy");
+  CHECK(bottom["orthophoto"] == "bottom_gt_ortho.png");
+  CHECK(bottom["shape"] == nlohmann::json({257, 257}));
+}
+

@@ -17,6 +17,7 @@
 #include "engine/io/image_io.h"
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
+#include "engine/synth/bottom_truth.h"
 #include "engine/synth/render_view.h"
 #include "engine/synth/synth_rng.h"
 
@@ -308,6 +309,14 @@ void writeWaterTruth(const SynthPreset& p, const std::string& dir, const SynthWr
                          {"dtype", "float32"},
                          {"mean", hmMean},
                          {"layout", "value [j][i] is H at x = xmin + i (xmax - xmin) / (nx - 1), y = ymin + j (ymax - ymin) / (ny - 1)"}};
+  water["bottom"] = {{"elevation", "bottom_gt_height.npy"},
+                     {"orthophoto", "bottom_gt_ortho.png"},
+                     {"shape", {p.heightMapSize, p.heightMapSize}},
+                     {"dtype", "float32"},
+                     {"what", "the first scene surface a vertical ray meets over the water's domain with the water removed: its z (NaN: "
+                              "nothing met) and its colour seen straight down"},
+                     {"layout", "the height map's: value [j][i] at x = xmin + i (xmax - xmin) / (nx - 1), y = ymin + j (ymax - ymin) / (ny - 1); "
+                                "the orthophoto's rows north up: PNG row r is j = ny - 1 - r"}};
   water["mesh"] = {{"file", "water_gt.gltf"},
                    {"grid", {p.meshGridSize, p.meshGridSize}},
                    {"up", "+Z: vertex positions are world coordinates, no node transform"}};
@@ -360,6 +369,19 @@ void writeLlffLayout(const SynthPreset& p, const std::string& dir, const Rendere
   writeNpy((fs::path(dir) / "poses_bounds.npy").string(), poses, true);
 }
 
+// The bed's truth (engine/synth/bottom_truth.h): its elevation grid and its orthophoto, north up.
+void writeBottomTruth(const SynthPreset& p, const std::string& dir) {
+  const BottomTruth b = renderBottomTruth(p);
+  const size_t n = size_t(b.size);
+  NpyArray a;
+  a.shape = {n, n};
+  a.data.assign(b.elevation.begin(), b.elevation.end());
+  writeNpy((fs::path(dir) / "bottom_gt_height.npy").string(), a);
+  std::vector<float> northUp(b.rgb.size());
+  for (size_t r = 0; r < n; r++) std::copy_n(&b.rgb[(n - 1 - r) * n * 3], n * 3, &northUp[r * n * 3]);
+  writePng((fs::path(dir) / "bottom_gt_ortho.png").string(), toImage(int(n), int(n), 3, northUp));
+}
+
 }  // namespace
 
 void writeSynthDataset(const SynthPreset& p, const std::string& dir, const SynthWriteOptions& o) {
@@ -369,6 +391,7 @@ void writeSynthDataset(const SynthPreset& p, const std::string& dir, const Synth
   const RenderedSplits rendered = renderSplits(p, dir, o);
   writeBlenderSplits(p, dir, o);
   writeWaterTruth(p, dir, o, rendered);
+  writeBottomTruth(p, dir);
   if (p.writeLlff) writeLlffLayout(p, dir, rendered);
 }
 
