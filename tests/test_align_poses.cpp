@@ -82,6 +82,8 @@ TEST_CASE("align-poses: cameras in COLMAP's own frame align back onto the truth,
   CHECK(aligned.format == "blender");
   CHECK(aligned.water.domain.has_value());  // the truth's water.json came along
   CHECK(fileExists(dir / "aligned/water_gt_height.npy"));
+  CHECK(fileExists(dir / "aligned/bottom_gt_height.npy"));
+  CHECK(fileExists(dir / "aligned/bottom_gt_ortho.png"));
   for (const char* split : {"train", "test"}) {
     REQUIRE(aligned.split(split).size() == truth.split(split).size());
     for (size_t i = 0; i < truth.split(split).size(); i++) {

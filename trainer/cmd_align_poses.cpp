@@ -62,10 +62,13 @@ void copyGroundTruth(const std::string& truthRoot, const std::string& out) {
   if (!fileExists(water)) return;
   fs::copy_file(water, out + "/water.json", fs::copy_options::overwrite_existing);
   nlohmann::json j = readJson(water);
-  for (const char* key : {"height_map", "mesh"}) {
-    if (!j.is_object() || !j.contains(key)) continue;
+  if (!j.is_object()) return;
+  // {section, field}: the water's height map and mesh, and the bed's truth (refrax synth's "bottom")
+  const std::pair<const char*, const char*> named[] = {{"height_map", "file"}, {"mesh", "file"}, {"bottom", "elevation"}, {"bottom", "orthophoto"}};
+  for (const auto& [key, field] : named) {
+    if (!j.contains(key)) continue;
     const auto& v = j[key];
-    std::string file = v.is_string() ? v.get<std::string>() : v.is_object() && v.contains("file") && v["file"].is_string() ? v["file"].get<std::string>() : "";
+    std::string file = v.is_string() ? v.get<std::string>() : v.is_object() && v.contains(field) && v[field].is_string() ? v[field].get<std::string>() : "";
     if (file.empty()) continue;
     fs::path target = fs::path(out) / file;
     fs::create_directories(target.parent_path());
