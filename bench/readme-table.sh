@@ -3,7 +3,7 @@
 # mode for the three models the README shows (refraction-sweep, --flat-water, --no-refraction)
 # into bench/results/readme-table/ (presets.csv, summary.md: every setting and time), then
 # bench/readme-table.py turns it into readme-table.md, which the README quotes as it is.
-# 27 runs, about 35 minutes on a 2-core lavapipe machine.
+# 27 runs, about 15 minutes on a 2-core lavapipe machine (2026-12-02).
 # Usage: bench/readme-table.sh [--out DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
