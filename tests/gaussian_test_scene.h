@@ -75,6 +75,7 @@ inline ref::TraceOptionsD toOptionsD(const TraceOptions& o) {
   for (int c = 0; c < 3; c++) d.background[c] = o.background[c];
   d.shDegree = o.shDegree;
   d.minTransmittance = o.minTransmittance;
+  d.depthAtOpacity = o.depthAtOpacity;
   d.useStatisticsViewpoint = o.statisticsViewpoint.has_value();
   if (o.statisticsViewpoint)
     for (int a = 0; a < 3; a++) d.statisticsViewpoint[a] = (*o.statisticsViewpoint)[a];

@@ -108,6 +108,44 @@ GPU_TEST_CASE("Gaussian forward with a raised minimum transmittance matches the 
                        refrax::Error);
 }
 
+// The depth where the opacity reaches a level (TraceOptions::depthAtOpacity, the bed's depth
+// for refrax export --bottom): the t of the hit that crosses it, as the reference finds it, on
+// rays through a random scene (near-ties at the level skipped by the reference's margin).
+GPU_TEST_CASE("Gaussian forward: the depth at an opacity level is the crossing hit's t, as the reference's") {
+  GaussianSet set = randomGaussians(rng, 300, testGaussianOptions());  // sparse enough that many rays stay under the level
+  DeviceGaussians dev = uploadGaussians(ctx, set);
+  GaussianTracer tracer = createGaussianTracer(ctx, 16);
+  GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
+  auto rays = raysIntoVolume(rng, 1500);
+  TraceOptions opt = randomBackground(rng);
+  opt.depthAtOpacity = std::uniform_real_distribution<float>(0.3f, 0.7f)(rng);
+  auto gpu = traceGaussians(ctx, tracer, proxies, dev, rays, opt);
+  auto cmp = compareForward(set, rays, gpu, toOptionsD(opt));
+  INFO("level " << opt.depthAtOpacity << "; worst depth rel " << cmp.worstDepthRel << ", skipped " << cmp.skippedNearThreshold
+                << "; first problem: " << cmp.firstProblem);
+  CHECK(cmp.poisoned == 0);
+  CHECK(cmp.compared >= rays.size() * 9 / 10);
+  CHECK(cmp.hitCountMismatch == 0);
+  CHECK(cmp.worstDepthRel <= 1e-4);
+  // the rays that reach the level carry a t inside their range; the rest 0; both kinds occur
+  size_t reached = 0, unreached = 0;
+  for (size_t i = 0; i < rays.size(); i++) {
+    if (gpu[i].opacity >= opt.depthAtOpacity + 1e-4f) {
+      reached++;
+      CHECK(gpu[i].depth >= rays[i].tmin);
+      CHECK(gpu[i].depth <= rays[i].tmax);
+    } else if (gpu[i].opacity < opt.depthAtOpacity - 1e-4f) {
+      unreached++;
+      CHECK(gpu[i].depth == 0.0f);
+    }
+  }
+  CHECK(reached > 100);
+  CHECK(unreached > 100);
+  TraceOptions bad;
+  bad.depthAtOpacity = 1.0f;
+  CHECK_THROWS_WITH_AS(traceGaussians(ctx, tracer, proxies, dev, rays, bad), doctest::Contains("opacity level"), refrax::Error);
+}
+
 GPU_TEST_CASE("Gaussian forward: the same image for any input order, any K and either proxy") {
   GaussianSet set = randomGaussians(rng, 1200, testGaussianOptions());
   std::vector<uint32_t> perm(set.count());

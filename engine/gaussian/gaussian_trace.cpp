@@ -100,6 +100,8 @@ TracePush tracePush(uint32_t count, const TraceOptions& o) {
     for (int a = 0; a < 3; a++) push.statViewpoint[a] = (*o.statisticsViewpoint)[a];
     push.statViewpoint[3] = 1.0f;
   }
+  push.depthAtOpacity = o.depthAtOpacity;
+  if (!(o.depthAtOpacity >= 0.0f && o.depthAtOpacity < 1.0f)) fail("the depth's opacity level must be in [0, 1)");
   if (o.shDegree > 3) fail("SH degree " + std::to_string(o.shDegree) + " is above 3");
   return push;
 }

@@ -60,6 +60,12 @@ struct TraceOptions {
   // of gaussian_math.glsl by default; the viewer raises it to trade accuracy for speed).
   // The backward takes the default only (it must stop where training's forward stopped).
   float minTransmittance = 1e-3f;
+  // Forward: what GpuTraceResult::depth holds. 0: the expected depth, sum of T alpha t (not
+  // normalised). In (0, 1): the t of the blended hit at which the opacity 1 - T first reaches
+  // this level, and 0 on a ray whose opacity never does (its opacity says so): a surface's
+  // depth as a surveyor reads it (0.5 for the bed under the water, refrax export --bottom),
+  // which no faint Gaussian in front of it or behind it moves. The backward ignores it.
+  float depthAtOpacity = 0.0f;
   // Backward: the densification statistic weighs |dL/dmean| by the distance from the camera
   // (3DGS's thresholds are for that). Refracted rays start at the water, so a trainer gives
   // the camera position here and distances run from it to the ray's origin, then along the

@@ -16,7 +16,7 @@ struct TracePush {
   float statViewpoint[4];  // backward only
   uint32_t recordsPerRay;
   uint32_t imageWidth, tileCapacity;  // tiled forward only
-  uint32_t pad;
+  float depthAtOpacity;  // forward only
 };
 static_assert(sizeof(TracePush) == 64, "TracePush must match REFRAX_TRACE_PUSH (gaussian_trace_types.glsl)");
 

@@ -95,7 +95,12 @@ TraceResultD traceRayRef(const std::vector<double>& p, const RayD& ray, const Tr
     real3 c = max(cRaw, real3(0));
     res.margin = std::min({res.margin, std::fabs(cRaw.x), std::fabs(cRaw.y), std::fabs(cRaw.z)});  // the clamp's kink
     rgb += T * alpha * c;
-    res.depth += T * alpha * h.t;
+    if (options.depthAtOpacity == 0) {
+      res.depth += T * alpha * h.t;
+    } else {
+      if (1 - T < options.depthAtOpacity && 1 - T * (1 - alpha) >= options.depthAtOpacity) res.depth = h.t;
+      res.margin = std::min(res.margin, relDist(1 - T * (1 - alpha), options.depthAtOpacity));  // the level's crossing
+    }
     T *= 1 - alpha;
     res.hits++;
     res.margin = std::min(res.margin, relDist(T, options.minTransmittance));

@@ -23,6 +23,7 @@ struct TraceOptionsD {
   double background[3] = {0, 0, 0};
   uint32_t shDegree = 3;
   double minTransmittance = 1e-3;  // the forward's early stop (TraceOptions::minTransmittance)
+  double depthAtOpacity = 0;       // TraceOptions::depthAtOpacity
   bool useStatisticsViewpoint = false;  // TraceOptions::statisticsViewpoint
   double statisticsViewpoint[3] = {0, 0, 0};
 };

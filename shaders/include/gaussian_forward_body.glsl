@@ -36,7 +36,9 @@ void main() {
       loadShCoefficients(kid[k], coefficients);
       vec3 c = max(shColorRaw(), vec3(0.0));
       rgb += (T * alpha) * c;
-      depth += T * alpha * kt[k];
+      // the expected depth, or the t where the opacity first reaches the level (depthAtOpacity)
+      if (pc.depthAtOpacity == 0.0) depth += T * alpha * kt[k];
+      else if (1.0 - T < pc.depthAtOpacity && 1.0 - T * (1.0 - alpha) >= pc.depthAtOpacity) depth = kt[k];
       T *= 1.0 - alpha;
       if (hits < pc.recordsPerRay) hitRecords[i * pc.recordsPerRay + hits] = HitRecord(kid[k], floatBitsToUint(ka[k]));
       hits++;

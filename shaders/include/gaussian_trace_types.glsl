@@ -35,6 +35,7 @@ const uint kShVec4s = 12u;
     uint recordsPerRay;     /* hit records per ray (0: none are written or read) */                  \
     uint imageWidth;        /* tiled forward: the rays are an image this wide, row by row */         \
     uint tileCapacity;      /* tiled forward: candidates each tile's list holds */                   \
+    float depthAtOpacity;   /* forward: TraceOptions::depthAtOpacity (0: the expected depth) */      \
   } pc;
 
 #endif
