@@ -37,6 +37,9 @@ $SUDO apt-get install -y -qq --no-install-recommends \
 # COLMAP (CPU build): structure from motion for scripts/colmap-check.sh, the CTest test that
 # trains on poses COLMAP recovers from a synthetic dataset's images.
 $SUDO apt-get install -y -qq --no-install-recommends colmap >/dev/null
+# GDAL's tools: the tests read `refrax export --bottom`'s GeoTIFFs back with a reader that is
+# not ours (gdalinfo, gdal_translate), as a GIS would.
+$SUDO apt-get install -y -qq --no-install-recommends gdal-bin >/dev/null
 # python3 and npm: scripts/interop-check.sh (the field's own tools are npm packages, its
 # comparison is a Python script). Debian's nodejs and npm only where the machine has no npm:
 # a newer node from elsewhere (with its own npm) is kept, and an older one is topped up by

@@ -30,6 +30,8 @@ struct CliResult {
   std::string output;
 };
 CliResult runCli(const std::string& arguments);
+// Any shell command (another tool: gdalinfo, colmap), its stdout and stderr together.
+CliResult runShell(const std::string& command);
 
 }  // namespace refrax::test
 

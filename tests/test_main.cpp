@@ -46,7 +46,11 @@ GpuTest::~GpuTest() {
 CliResult runCli(const std::string& arguments) {
   // REFRAX_CLI: a refrax binary elsewhere (a build copied to another machine, scripts/gpu-check.sh)
   const char* cli = std::getenv("REFRAX_CLI");
-  std::string cmd = std::string(cli ? cli : REFRAX_CLI) + " " + arguments + " 2>&1";
+  return runShell(std::string(cli ? cli : REFRAX_CLI) + " " + arguments);
+}
+
+CliResult runShell(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   CliResult r{-1, ""};
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
