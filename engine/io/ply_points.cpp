@@ -1,5 +1,6 @@
 #include "engine/io/ply_points.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -7,6 +8,7 @@
 #include <sstream>
 
 #include "engine/base/error.h"
+#include "engine/io/atomic_file.h"
 #include "engine/io/ply_header.h"
 
 namespace refrax {
@@ -79,6 +81,19 @@ std::vector<PlyPoint> readPlyPoints(const std::string& path) {
     points.push_back(p);
   }
   return points;
+}
+
+void writePlyPoints(const std::string& path, const std::vector<PlyPoint>& points) {
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by Refrax\nelement vertex " + std::to_string(points.size()) +
+                    "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+  for (const PlyPoint& p : points) {
+    for (int a = 0; a < 3; a++) {
+      const float v = float(p.position[a]);
+      out.append(reinterpret_cast<const char*>(&v), 4);
+    }
+    for (int c = 0; c < 3; c++) out += char(uint8_t(std::lround(std::clamp(p.colour[c], 0.0, 1.0) * 255.0)));
+  }
+  writeFileAtomic(path, out.data(), out.size());
 }
 
 }  // namespace refrax

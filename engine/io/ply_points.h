@@ -17,5 +17,8 @@ struct PlyPoint {
 // refrax::Error naming the file on a malformed or truncated file, a missing x, y or z, or a
 // coordinate that is not finite.
 std::vector<PlyPoint> readPlyPoints(const std::string& path);
+// Binary little-endian: x, y, z as float, red, green, blue as uchar (colour clamped to 0..1);
+// written atomically. What CloudCompare, MeshLab and PDAL open as a coloured point cloud.
+void writePlyPoints(const std::string& path, const std::vector<PlyPoint>& points);
 
 }  // namespace refrax

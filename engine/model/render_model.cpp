@@ -101,6 +101,38 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
   return out;
 }
 
+std::vector<GpuTraceResult> traceModelRays(Model& m, const std::vector<GpuRay>& rays, WaterView water, float depthAtOpacity,
+                                           std::vector<uint8_t>* hitWater) {
+  if (water == WaterView::Swap) fail("traceModelRays: the learned water kept or removed only");
+  Context& ctx = *m.ctx;
+  const bool refract = water == WaterView::Keep && m.surface;
+  const uint32_t chunk = refract ? std::min(m.surface->config.maxRays, 1u << 17) : 1u << 17;
+  growModelRayCapacity(m, std::min<uint32_t>(chunk, uint32_t(std::max<size_t>(rays.size(), 1))));
+  TraceOptions opt;
+  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(m.config.datasetOptions.background[ch]);
+  opt.shDegree = shDegreeAt(m.config, std::max(1, m.step));
+  opt.depthAtOpacity = depthAtOpacity;
+  std::vector<GpuTraceResult> out(rays.size());
+  if (hitWater) hitWater->assign(rays.size(), 0);
+  for (size_t first = 0; first < rays.size(); first += std::min<size_t>(chunk, m.capacity)) {
+    const uint32_t n = uint32_t(std::min<size_t>({rays.size() - first, chunk, m.capacity}));
+    upload(ctx, m.rays, &rays[first], VkDeviceSize(n) * sizeof(GpuRay));
+    const Buffer* traced = &m.rays;
+    if (refract) {
+      m.surface->config.faceNormals = m.step <= m.config.schedule.faceNormalsUntil;
+      traceSurface(ctx, *m.surface, currentHeightSource(m), m.rays, n, m.refracted, m.records);
+      traced = &m.refracted;
+      if (hitWater) {
+        auto records = downloadVector<SurfaceRecord>(ctx, m.records, n);
+        for (uint32_t i = 0; i < n; i++) (*hitWater)[first + i] = (surfaceRecordFlags(records[i]) & kSurfaceHit) != 0;
+      }
+    }
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, m.tracer, m.proxies, m.device, *traced, m.results, n, opt); });
+    download(ctx, m.results, &out[first], VkDeviceSize(n) * sizeof(GpuTraceResult));
+  }
+  return out;
+}
+
 namespace {
 
 std::string indexed(const std::string& dir, size_t i, const char* suffix) {

@@ -45,6 +45,14 @@ inline RenderedView renderView(Model& model, const Camera& camera, WaterView wat
   return renderView(model, camera, water, SwapSurface{swap, nullptr});
 }
 
+// Any rays (not a camera's) through the model: refracted at the learned water first (Keep, where
+// the model has water) or straight to the Gaussians (Remove); the scene's background, its SH
+// degree at the model's step, and `depthAtOpacity` (TraceOptions) for the results' depth. In
+// chunks the model's ray buffers hold. `hitWater` (Keep), when given: per ray, whether it met
+// the water inside its domain.
+std::vector<GpuTraceResult> traceModelRays(Model& model, const std::vector<GpuRay>& rays, WaterView water, float depthAtOpacity = 0.0f,
+                                           std::vector<uint8_t>* hitWater = nullptr);
+
 // A look-at camera: position, target, world up +z, vertical field of view (radians).
 Camera lookAtCamera(const glm::dvec3& position, const glm::dvec3& target, int width, int height, double fovY);
 
