@@ -14,34 +14,15 @@
 #include "engine/io/json_io.h"
 #include "engine/io/npy.h"
 #include "engine/io/ply_points.h"
-#include "tests/gpu_test.h"
+#include "tests/gdal_test_util.h"
 #include "tests/train_test_util.h"
 
 using namespace refrax;
+using test::gdalInfo;
+using test::gdalXyz;
 namespace fs = std::filesystem;
 
 namespace {
-
-// gdal_translate's XYZ of one band: "x y value" per pixel, where GDAL places the pixel.
-std::vector<std::array<double, 3>> gdalXyz(const fs::path& tif, int band) {
-  const fs::path out = tif.string() + "." + std::to_string(band) + ".xyz";
-  test::CliResult r = test::runShell("gdal_translate -q -of XYZ -b " + std::to_string(band) + " " + tif.string() + " " + out.string());
-  INFO(r.output);
-  REQUIRE_MESSAGE(r.exitCode == 0, "gdal_translate (Debian's gdal-bin, scripts/install-deps.sh installs it) must read " << tif);
-  std::stringstream in(readFile(out.string()));
-  std::vector<std::array<double, 3>> v;
-  std::string x, y, z;
-  while (in >> x >> y >> z) v.push_back({std::stod(x), std::stod(y), z.find("nan") != std::string::npos ? NAN : std::stod(z)});
-  fs::remove(out);
-  return v;
-}
-
-nlohmann::json gdalInfo(const fs::path& tif) {
-  test::CliResult r = test::runShell("{ gdalinfo -json " + tif.string() + " 2>/dev/null; }");
-  INFO(r.output);
-  REQUIRE(r.exitCode == 0);
-  return nlohmann::json::parse(r.output);
-}
 
 // Which truth vertex GDAL's coordinate is: an index that must be whole (a map off the grid by
 // any part of a cell is not on the truth's vertices).
@@ -69,7 +50,7 @@ TEST_CASE("bottom export: GDAL reads each layer on the truth's grid, and the bot
   const double dx = (x1 - x0) / double(n - 1), dy = (y1 - y0) / double(n - 1);
   for (const char* f : {"bottom_elevation", "water_surface", "water_depth", "confidence", "ortho_dry", "ortho_wet"}) {
     INFO(f);
-    const nlohmann::json info = gdalInfo(bed / (std::string(f) + ".tif"));
+    const nlohmann::json info = gdalInfo(bed / (std::string(f) + ".tif"), "proj_get_ellipsoid");  // a local frame (test_geotiff.cpp)
     CHECK(info["size"] == nlohmann::json({n, n}));
     CHECK(info["metadata"][""]["AREA_OR_POINT"] == "Point");
     CHECK(info["geoTransform"][0].get<double>() == doctest::Approx(x0 - dx / 2));
@@ -79,8 +60,8 @@ TEST_CASE("bottom export: GDAL reads each layer on the truth's grid, and the bot
     CHECK(info["bands"][0]["type"] == (ortho ? "Byte" : "Float32"));
     if (!ortho) CHECK(info["bands"][0]["noDataValue"] == "NaN");
   }
-  CHECK(gdalInfo(bed / "bottom_elevation.tif")["bands"][0]["description"] == "bottom elevation");
-  CHECK(gdalInfo(bed / "bottom_elevation.tif")["bands"][0]["unit"] == "m");
+  CHECK(gdalInfo(bed / "bottom_elevation.tif", "proj_get_ellipsoid")["bands"][0]["description"] == "bottom elevation");
+  CHECK(gdalInfo(bed / "bottom_elevation.tif", "proj_get_ellipsoid")["bands"][0]["unit"] == "m");
   // The bottom as GDAL reads it, each value at its truth vertex, against the truth where a
   // training view sees: what bottom.json reports.
   const auto z = gdalXyz(bed / "bottom_elevation.tif", 1), views = gdalXyz(bed / "confidence.tif", 2);

@@ -14,9 +14,11 @@
 #include "engine/base/error.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/geotiff.h"
-#include "tests/gpu_test.h"
+#include "tests/gdal_test_util.h"
 
 using namespace refrax;
+using test::gdalInfo;
+using test::gdalXyz;
 namespace fs = std::filesystem;
 
 namespace {
@@ -26,34 +28,6 @@ struct TempDir {
   TempDir() { fs::create_directories(path); }
   ~TempDir() { fs::remove_all(path); }
 };
-
-// gdalinfo's report; what it says on stderr (a warning about a malformed tag) fails the check,
-// but for lines holding `expected`.
-nlohmann::json gdalInfo(const fs::path& file, const std::string& expected = "") {
-  const fs::path err = file.string() + ".stderr";
-  test::CliResult r = test::runShell("{ gdalinfo -json " + file.string() + " 2>" + err.string() + "; }");
-  std::string warnings;
-  std::stringstream lines(fs::exists(err) ? readFile(err.string()) : "");
-  for (std::string line; std::getline(lines, line);)
-    if (expected.empty() || line.find(expected) == std::string::npos) warnings += line + "\n";
-  INFO(r.output);
-  INFO("gdalinfo's stderr: " << warnings);
-  REQUIRE_MESSAGE(r.exitCode == 0, "gdalinfo (Debian's gdal-bin, scripts/install-deps.sh installs it) must read the file");
-  CHECK(warnings.empty());
-  return nlohmann::json::parse(r.output);
-}
-
-// gdal_translate's XYZ: one "x y value" line per pixel, at the pixel's centre as GDAL places it.
-std::vector<std::array<double, 3>> gdalXyz(const fs::path& file, int band, const fs::path& out) {
-  test::CliResult r = test::runShell("gdal_translate -q -of XYZ -b " + std::to_string(band) + " " + file.string() + " " + out.string());
-  INFO(r.output);
-  REQUIRE(r.exitCode == 0);
-  std::stringstream in(readFile(out.string()));
-  std::vector<std::array<double, 3>> v;
-  std::string x, y, z;
-  while (in >> x >> y >> z) v.push_back({std::stod(x), std::stod(y), z == "nan" || z == "-nan" ? NAN : std::stod(z)});
-  return v;
-}
 
 }  // namespace
 
@@ -83,7 +57,7 @@ TEST_CASE("GeoTIFF: GDAL reads a float grid's size, no-data, bands and every val
   CHECK(t[1].get<double>() == doctest::Approx(0.5));
   CHECK(t[3].get<double>() == doctest::Approx(2.0 + 0.125));
   CHECK(t[5].get<double>() == doctest::Approx(-0.25));
-  const auto xyz = gdalXyz(f, 1, dir.path / "grid.xyz");
+  const auto xyz = gdalXyz(f, 1);
   REQUIRE(xyz.size() == 15);
   for (size_t k = 0; k < 15; k++) {
     const size_t r = k / 5, c = k % 5;
@@ -93,7 +67,7 @@ TEST_CASE("GeoTIFF: GDAL reads a float grid's size, no-data, bands and every val
     if (k == 7) CHECK(std::isnan(xyz[k][2]));
     else CHECK(xyz[k][2] == doctest::Approx(values[2 * k]));
   }
-  const auto second = gdalXyz(f, 2, dir.path / "grid2.xyz");
+  const auto second = gdalXyz(f, 2);
   REQUIRE(second.size() == 15);
   CHECK(second[14][2] == doctest::Approx(-2.0));
 }
@@ -117,7 +91,7 @@ TEST_CASE("GeoTIFF: an RGB orthophoto in a projected CRS reads back as three byt
   INFO(wkt);
   CHECK(wkt.find("UTM zone 33N") != std::string::npos);
   CHECK(wkt.find("ID[\"EPSG\",32633]") != std::string::npos);
-  const auto green = gdalXyz(f, 2, dir.path / "g.xyz");
+  const auto green = gdalXyz(f, 2);
   REQUIRE(green.size() == 8);
   CHECK(green[5][0] == doctest::Approx(500000.1));
   CHECK(green[5][1] == doctest::Approx(4649775.9));
