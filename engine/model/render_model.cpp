@@ -34,6 +34,14 @@ Camera lookAtCamera(const glm::dvec3& position, const glm::dvec3& target, int wi
 
 namespace {
 
+// How a view of the model blends the Gaussians: the scene's background, the SH degree of its step.
+TraceOptions viewTraceOptions(const Model& m) {
+  TraceOptions opt;
+  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(m.config.datasetOptions.background[ch]);
+  opt.shDegree = shDegreeAt(m.config, std::max(1, m.step));
+  return opt;
+}
+
 // The hits' points on the surface and, for the same pixels, on the initial flat water plane.
 void collectSurfacePoints(const Model& m, const std::vector<GpuRay>& rays, const std::vector<GpuRay>& refracted,
                           const std::vector<uint32_t>& flags, RenderedView& out) {
@@ -87,9 +95,7 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
     for (uint32_t i = 0; i < n; i++) flags[i] = surfaceRecordFlags(records[i]);
     collectSurfacePoints(m, downloadVector<GpuRay>(ctx, m.rays, n), downloadVector<GpuRay>(ctx, m.refracted, n), flags, out);
   }
-  TraceOptions opt;
-  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(m.config.datasetOptions.background[ch]);
-  opt.shDegree = shDegreeAt(m.config, std::max(1, m.step));
+  const TraceOptions opt = viewTraceOptions(m);
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, m.tracer, m.proxies, m.device, *traced, m.results, n, opt); });
   auto results = downloadVector<GpuTraceResult>(ctx, m.results, n);
   out.image.width = camera.width;
@@ -108,9 +114,7 @@ std::vector<GpuTraceResult> traceModelRays(Model& m, const std::vector<GpuRay>& 
   const bool refract = water == WaterView::Keep && m.surface;
   const uint32_t chunk = refract ? std::min(m.surface->config.maxRays, 1u << 17) : 1u << 17;
   growModelRayCapacity(m, std::min<uint32_t>(chunk, uint32_t(std::max<size_t>(rays.size(), 1))));
-  TraceOptions opt;
-  for (int ch = 0; ch < 3; ch++) opt.background[ch] = float(m.config.datasetOptions.background[ch]);
-  opt.shDegree = shDegreeAt(m.config, std::max(1, m.step));
+  TraceOptions opt = viewTraceOptions(m);
   opt.depthAtOpacity = depthAtOpacity;
   std::vector<GpuTraceResult> out(rays.size());
   if (hitWater) hitWater->assign(rays.size(), 0);
