@@ -31,7 +31,9 @@ ap.add_argument('dir')
 ap.add_argument('--expected-runs', type=int, default=0)
 ap.add_argument('--device', default='')
 ap.add_argument('--settings', default='')
+ap.add_argument('--models', default=' '.join(MODELS), help='the models this invocation trained (the others count as not run, not as failed)')
 a = ap.parse_args()
+TRAINED = [m for m in MODELS if m in a.models.split()]
 out = a.dir
 
 
@@ -90,7 +92,7 @@ for scene, seed in pairs:
     row.update({'surface_rmse': fmt(rmse, '%.5f'), 'flat_start_rmse': fmt(flat, '%.5f'), 'surface_vs_flat': fmt(ratio, '%.3f'),
                 'amplitude_ratio': fmt(num(method['amplitude_ratio']) if method else None, '%.3f'),
                 'correlation': fmt(num(method['eval_correlation']) if method else None, '%.3f')})
-    run_failed = [m for m in MODELS if (scene, seed, m) in failed or (scene, seed, m) not in by]
+    run_failed = [m for m in TRAINED if (scene, seed, m) in failed or (scene, seed, m) not in by]
     row['failed_runs'] = ' '.join(run_failed)
     row['water_matters'] = '' if lead is None else int(lead >= MATTERS_DB)
     row['under_straight'] = '' if gain is None else int(gain < 0)

@@ -22,7 +22,8 @@
 #
 # Usage: bench/generalise.sh [--set dev|eval] [--scenes N] [--seeds S] [--steps N] [--jobs N]
 #                            [--dataset-size tiny|full] [--out DIR] [--resume | --charts-only]
-#                            [--method-flags "FLAGS"] [--keep-work] [--smoke]
+#                            [--method-flags "FLAGS"] [--train-flags "FLAGS"] [--models "LIST"]
+#                            [--baseline DIR] [--keep-work] [--smoke]
 #   --set      dev (default) or eval
 #   --scenes N the set's first N scenes (default 12); --seeds S training seeds 1..S (default 2)
 #   --steps N  every model trains N steps (default: refrax train's own default, what a user gets)
@@ -30,6 +31,14 @@
 #   --method-flags "FLAGS"  a candidate default: the method trains with these flags added (the
 #              other models do not); recorded in the settings, so compare two --out folders
 #              of the same scenes and seeds, one without. Choose on dev, then check on eval.
+#   --train-flags "FLAGS"  flags every model trains with (a CPU study's --patch, say); recorded
+#              in the settings
+#   --models "LIST"  train only these of the five models (default all; the summary leaves the
+#              others' columns empty)
+#   --baseline DIR   take the rows of the models other than the method from DIR, an earlier
+#              invocation with the same set, scenes, seeds, steps, size and train flags and the
+#              same training code: candidate method flags are then compared against one
+#              trained set of straight rays, flat planes, dry controls and oracles
 #   --dataset-size  tiny caps the scenes at 64 px (CI); default full: the drawn 96-400 px
 #   --resume   keep the rows in DIR/rows from an earlier invocation with the same settings and
 #              the same training code (git's hash of engine/ shaders/ trainer/ CMakeLists.txt;
@@ -50,6 +59,9 @@ seeds=2
 steps=""
 jobs=1
 method_flags=""
+train_flags=""
+models_arg=""
+baseline=""
 resume=0
 dataset_size=full
 smoke=0
@@ -62,6 +74,9 @@ while [ $# -gt 0 ]; do
     --steps) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --steps needs a step count" >&2; exit 2; }; steps=$2; shift ;;
     --jobs) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --jobs needs a count" >&2; exit 2; }; jobs=$2; shift ;;
     --method-flags) [ $# -ge 2 ] || { echo "generalise: --method-flags needs the flags, quoted as one argument" >&2; exit 2; }; method_flags=$2; shift ;;
+    --train-flags) [ $# -ge 2 ] || { echo "generalise: --train-flags needs the flags, quoted as one argument" >&2; exit 2; }; train_flags=$2; shift ;;
+    --models) [ $# -ge 2 ] || { echo "generalise: --models needs a list of models" >&2; exit 2; }; models_arg=$2; shift ;;
+    --baseline) [ $# -ge 2 ] && [ -f "$2/run_info.txt" ] || { echo "generalise: --baseline needs an earlier invocation's folder (with run_info.txt)" >&2; exit 2; }; baseline=$(cd "$2" && pwd); shift ;;
     --dataset-size) [ $# -ge 2 ] && { [ "$2" = tiny ] || [ "$2" = full ]; } || { echo "generalise: --dataset-size needs tiny or full" >&2; exit 2; }; dataset_size=$2; shift ;;
     --resume) resume=1 ;;
     --smoke) smoke=1 ;;
@@ -81,7 +96,15 @@ first=1
 [ "$set_name" = eval ] && first=1001
 scene_list=$(seq "$first" $((first + scenes - 1)))
 seed_list=$(seq 1 "$seeds")
-models=(method no-refraction flat-water dry-control known-water)
+all_models=(method no-refraction flat-water dry-control known-water)
+models=("${all_models[@]}")
+if [ -n "$models_arg" ]; then
+  read -r -a models <<<"$models_arg"
+  for m in "${models[@]}"; do
+    [[ " ${all_models[*]} " == *" $m "* ]] || { echo "generalise: --models: no model '$m' (${all_models[*]})" >&2; exit 2; }
+  done
+fi
+[ -z "$baseline" ] || [ $resume = 0 ] || { echo "generalise: --baseline or --resume, not both" >&2; exit 2; }
 model_options() {
   case $1 in
     method) echo "$method_flags" ;;
@@ -92,7 +115,9 @@ model_options() {
 }
 train_steps=()
 [ -z "$steps" ] || train_steps=(--steps "$steps")
-settings="set $set_name, scenes $(echo $scene_list | tr ' ' ','), training seeds $(echo $seed_list | tr ' ' ','), ${steps:-default} steps, dataset size $dataset_size${method_flags:+, method flags $method_flags}"
+# What the rows of every model depend on (a --baseline must match it), then the method's own flags.
+common_settings="set $set_name, scenes $(echo $scene_list | tr ' ' ','), training seeds $(echo $seed_list | tr ' ' ','), ${steps:-default} steps, dataset size $dataset_size${train_flags:+, train flags $train_flags}"
+settings="$common_settings${method_flags:+, method flags $method_flags}"
 rows=$out/rows
 
 if [ $charts_only = 0 ]; then
@@ -117,13 +142,36 @@ if [ $charts_only = 0 ]; then
     rm -rf "$rows" "$out/scenes" "$out/failures.txt"
   fi
   mkdir -p "$rows" "$out/scenes"
-  printf 'settings=%s\ncode=%s\ndevice=%s\nstarted=%s\n' "$settings" "$code" "$device" "$(date -u '+%Y-%m-%d %H:%M UTC')" >"$out/run_info.txt"
+  printf 'settings=%s\ncommon_settings=%s\nmodels=%s\ncode=%s\ndevice=%s\nstarted=%s\n' "$settings" "$common_settings" "${models[*]}" "$code" "$device" \
+    "$(date -u '+%Y-%m-%d %H:%M UTC')" >"$out/run_info.txt"
+  if [ -n "$baseline" ]; then
+    # The other models' rows from an earlier invocation of the same scenes, seeds, steps and
+    # training code: only the method trains here.
+    base_settings=$(sed -n 's/^common_settings=//p' "$baseline/run_info.txt")
+    base_code=$(sed -n 's/^code=//p' "$baseline/run_info.txt")
+    [ "$base_settings" = "$common_settings" ] ||
+      { echo "generalise: --baseline: $baseline was trained with other settings (${base_settings:-not recorded}), not these ($common_settings)" >&2; exit 2; }
+    [ "$code" != unknown ] && [ "$base_code" = "$code" ] ||
+      { echo "generalise: --baseline: $baseline comes from training code ${base_code:-not recorded}, and this checkout's is $code (unknown outside a clean git checkout)" >&2; exit 2; }
+    for m in "${all_models[@]}"; do
+      [ "$m" != method ] || continue
+      for f in "$baseline"/rows/scene_*_"$m".csv; do
+        [ -f "$f" ] && cp "$f" "$rows/"
+      done
+    done
+    cp "$baseline"/scenes/scene_*.json "$out/scenes/" 2>/dev/null || true
+    baseline_models=$(sed -n 's/^models=//p' "$baseline/run_info.txt")
+    for m in $baseline_models; do
+      [ "$m" = method ] || [[ " ${models[*]} " == *" $m "* ]] || models+=("$m")
+    done
+  fi
 
   # The datasets first (each scene and its dry copy), then the runs, $jobs at a time.
   for scene in $scene_list; do
     for variant in wet dry; do
       data=$work/data/scene_${scene}_$variant
       [ ! -d "$data" ] || continue
+      [ $variant = wet ] || [[ " ${models[*]} " == *" dry-control "* ]] || continue
       extra=()
       [ $variant = wet ] || extra=(--dry)
       mkdir -p "$work/data"
@@ -152,7 +200,7 @@ PY
     mkdir -p "$work/runs"
     t0=$(date +%s)
     # shellcheck disable=SC2046
-    "$REFRAX" train "$data" -o "$run" --seed "$seed" ${train_steps[@]+"${train_steps[@]}"} $(model_options "$model") \
+    "$REFRAX" train "$data" -o "$run" --seed "$seed" ${train_steps[@]+"${train_steps[@]}"} $train_flags $(model_options "$model") \
       --checkpoint-every 0 --progress-every 100000 >"$work/runs/$key.log" 2>&1 || code=$?
     if [ $code = 0 ]; then
       "$REFRAX" eval "$run" -o "$run/eval.json" >"$work/runs/$key.eval.log" 2>&1 || code=$?
@@ -223,7 +271,7 @@ fi
 [ -s "$out/runs.csv" ] || { echo "generalise: no run finished (see $out/failures.txt)" >&2; exit 1; }
 
 # The table, the summary and the charts' CSVs.
-python3 "$suite_root/bench/generalise-summary.py" "$out" --expected-runs $(( $(echo $scene_list | wc -w) * seeds * ${#models[@]} )) \
+python3 "$suite_root/bench/generalise-summary.py" "$out" --models "${models[*]}" --expected-runs $(( $(echo $scene_list | wc -w) * seeds * ${#models[@]} )) \
   --device "$device" --settings "$settings"
 suite_chart "$out/chart_psnr.csv" -o "$out/psnr.svg" --x slope_bound --y psnr --series model \
   --title "Test PSNR against the scene's wave slope ($set_name set)" --x-label "slope bound (water.json)" --y-label "test PSNR (dB, mean over seeds)"
