@@ -275,7 +275,8 @@ python3 "$suite_root/bench/generalise-summary.py" "$out" --models "${models[*]}"
   --device "$device" --settings "$settings"
 suite_chart "$out/chart_psnr.csv" -o "$out/psnr.svg" --x slope_bound --y psnr --series model \
   --title "Test PSNR against the scene's wave slope ($set_name set)" --x-label "slope bound (water.json)" --y-label "test PSNR (dB, mean over seeds)"
-suite_chart "$out/chart_gain.csv" -o "$out/gain.svg" --x oracle_lead --y gain --series rig \
+# (the gain chart needs the oracle and straight rays: a --models subset may have neither)
+[ "$(wc -l <"$out/chart_gain.csv")" -lt 2 ] || suite_chart "$out/chart_gain.csv" -o "$out/gain.svg" --x oracle_lead --y gain --series rig \
   --title "The method's gain over straight rays against the oracle's ($set_name set)" --x-label "oracle - straight rays (dB)" \
   --y-label "method - straight rays (dB)" --hline "0:straight rays"
 echo "generalise: done in $(suite_elapsed) s -> $out/summary.md"
