@@ -17,6 +17,7 @@
 #include "engine/surface/surface_prior.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/image_io.h"
+#include "engine/io/json_io.h"
 #include "engine/io/npy.h"
 #include "engine/gaussian/ply_gaussians.h"
 #include "engine/train/checkpoint.h"
@@ -438,17 +439,12 @@ void expectCleanFailure(const std::string& dataset, const std::string& run, cons
   CHECK(!fs::exists(run));
 }
 
-TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refuses a surface it cannot hold" * doctest::test_suite("one-backend")) {
-  TrainTempDir dir;
-  std::string data = test::tinyDataset("nerfrac-primary-sine");
-  nlohmann::json m = test::trainAndReadMetrics(data, dir / "known", " --known-water --steps 20 --gaussians 500 --patch 16 --checkpoint-every 0");
-  // Measured 0.00023 against the flat plane's 0.0173: only the proxy mesh's facets and the
-  // ground-truth height map's bilinear sampling differ from the true sine.
-  CHECK(m["surface_rmse"].get<double>() * 20 <= m["initial_flat_surface_rmse"].get<double>());
+// The oracle's heights against water.json's formula at every node of water_height.npy.
+double worstKnownWaterError(const std::string& data, const std::string& run) {
   nlohmann::json surface = readJson(data + "/water.json")["surface"];
-  NpyArray h = readNpy(dir / "known/water_height.npy");
+  NpyArray h = readNpy(run + "/water_height.npy");
   REQUIRE(h.shape.size() == 2);
-  auto domain = readJson(dir / "known/metrics.json")["water_height_domain"];
+  auto domain = readJson(run + "/metrics.json")["water_height_domain"];
   size_t ny = h.shape[0], nx = h.shape[1], worst = 0;
   double worstDiff = 0;
   for (size_t j = 0; j < ny; j++)
@@ -459,10 +455,36 @@ TEST_CASE("train: the known-water oracle keeps the true surface fixed, and refus
       if (diff > worstDiff) worstDiff = diff, worst = j * nx + i;
     }
   INFO("worst height difference " << worstDiff << " at " << worst);
-  CHECK(worstDiff <= 1e-5);  // float32 positions (x, y up to ~1) through sin
+  return worstDiff;
+}
 
-  // A surface with a radial ripple is not a sum of directional sines.
-  expectCleanFailure(test::tinyDataset("nerfrac-hybrid"), dir / "hybrid", "radial ripples", " --known-water");
+TEST_CASE("train: the known-water oracle keeps the true surface fixed, ripples included, and refuses a surface it cannot hold" *
+          doctest::test_suite("one-backend")) {
+  TrainTempDir dir;
+  std::string data = test::tinyDataset("nerfrac-primary-sine");
+  nlohmann::json m = test::trainAndReadMetrics(data, dir / "known", " --known-water --steps 20 --gaussians 500 --patch 16 --checkpoint-every 0");
+  // Measured 0.00023 against the flat plane's 0.0173: only the proxy mesh's facets and the
+  // ground-truth height map's bilinear sampling differ from the true sine.
+  CHECK(m["surface_rmse"].get<double>() * 20 <= m["initial_flat_surface_rmse"].get<double>());
+  CHECK(worstKnownWaterError(data, dir / "known") <= 1e-5);  // float32 positions (x, y up to ~1) through sin
+
+  // A radial ripple with its sines (the hybrid preset; the random scenes draw them too): the
+  // oracle holds it as refrax synth drew it. Before ripples were held the oracle refused such
+  // scenes, and a ripple read as a sine (its sigma dropped) is off by its whole amplitude.
+  const std::string hybrid = test::tinyDataset("nerfrac-hybrid");
+  REQUIRE(!readJson(hybrid + "/water.json")["surface"]["radial_ripples"].empty());
+  nlohmann::json r = test::trainAndReadMetrics(hybrid, dir / "hybrid", " --known-water --steps 4 --gaussians 300 --patch 16 --checkpoint-every 0");
+  CHECK(r["surface_rmse"].get<double>() * 20 <= r["initial_flat_surface_rmse"].get<double>());
+  CHECK(worstKnownWaterError(hybrid, dir / "hybrid") <= 1e-5);
+
+  // Five terms are more than the oracle's four components.
+  const std::string five = dir / "five";
+  fs::copy(data, five, fs::copy_options::recursive);
+  nlohmann::json water = readJson(five + "/water.json");
+  nlohmann::json& waves = water["surface"]["directional_waves"];
+  while (waves.size() + water["surface"]["radial_ripples"].size() < 5) waves.push_back(waves[0]);
+  writeJson(five + "/water.json", water);
+  expectCleanFailure(five, dir / "five-run", "at most 4 directional waves and radial ripples", " --known-water");
 }
 
 TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives config.json, and is validated" * doctest::test_suite("one-backend")) {

@@ -66,10 +66,11 @@ AnalyticWaves loadGroundTruthWaves(const Dataset& d) {
   if (!j.is_object() || !j.contains("surface") || !j["surface"].is_object()) fail(what + "a ground-truth 'surface'");
   const nlohmann::json& s = j["surface"];
   if (s.value("type", "") != "wave_sum") fail(what + "a 'surface' of type 'wave_sum'");
-  if (s.contains("radial_ripples") && !(s["radial_ripples"].is_array() && s["radial_ripples"].empty()))
-    fail(what + "directional waves only (this surface has radial ripples)");
-  const nlohmann::json& waves = s.contains("directional_waves") ? s["directional_waves"] : nlohmann::json::array();
-  if (!waves.is_array() || waves.size() > 4) fail(what + "at most 4 directional waves");
+  const nlohmann::json none = nlohmann::json::array();
+  const nlohmann::json& waves = s.contains("directional_waves") ? s["directional_waves"] : none;
+  const nlohmann::json& ripples = s.contains("radial_ripples") ? s["radial_ripples"] : none;
+  if (!waves.is_array() || !ripples.is_array()) fail(path + ": 'directional_waves' and 'radial_ripples' must be arrays");
+  if (waves.size() + ripples.size() > 4) fail(what + "at most 4 directional waves and radial ripples together");
   if (d.normalization != glm::dmat4(1.0)) fail(what + "a dataset in its own world frame (this one is normalised on loading)");
   auto number = [&](const nlohmann::json& o, const char* key) {
     if (!o.is_object() || !o.contains(key) || !o[key].is_number() || !std::isfinite(o[key].get<double>()))
@@ -78,11 +79,22 @@ AnalyticWaves loadGroundTruthWaves(const Dataset& d) {
   };
   AnalyticWaves w;
   w.base = float(number(s, "mean_height"));
-  for (size_t i = 0; i < waves.size(); i++) {
-    w.waves[i][0] = float(number(waves[i], "amplitude"));
-    w.waves[i][1] = float(number(waves[i], "kx"));
-    w.waves[i][2] = float(number(waves[i], "ky"));
-    w.waves[i][3] = float(number(waves[i], "phase"));
+  size_t k = 0;
+  for (const auto& wave : waves) {
+    w.waves[k][0] = float(number(wave, "amplitude"));
+    w.waves[k][1] = float(number(wave, "kx"));
+    w.waves[k][2] = float(number(wave, "ky"));
+    w.waves[k][3] = float(number(wave, "phase"));
+    k++;
+  }
+  for (const auto& ripple : ripples) {  // after the sines: a component is a ripple by its sigma
+    w.waves[k][0] = float(number(ripple, "amplitude"));
+    w.waves[k][1] = float(number(ripple, "cx"));
+    w.waves[k][2] = float(number(ripple, "cy"));
+    w.waves[k][3] = float(number(ripple, "k"));
+    w.sigma[k] = float(number(ripple, "sigma"));
+    if (!(w.sigma[k] > 0)) fail(path + ": a radial ripple's 'sigma' must be positive");
+    k++;
   }
   return w;
 }

@@ -17,8 +17,9 @@ HeightGrid loadHeightGridNpy(const std::string& path, const Rect& domain);
 std::optional<HeightGrid> loadGroundTruthSurface(const Dataset& dataset);
 // The closed-form ground-truth surface of water.json ("surface": {"type": "wave_sum",
 // "mean_height", "directional_waves": [{amplitude, kx, ky, phase}], "radial_ripples": []},
-// as `refrax synth` writes it) for the known-water oracle. refrax::Error when the dataset has
-// none, or a surface AnalyticWaves cannot hold (ripples, more than 4 waves).
+// "radial_ripples": [{amplitude, cx, cy, k, sigma}]}, as `refrax synth` writes it) for the
+// known-water oracle. refrax::Error when the dataset has none, or a surface AnalyticWaves cannot
+// hold (more than 4 waves and ripples together).
 AnalyticWaves loadGroundTruthWaves(const Dataset& dataset);
 
 }  // namespace refrax

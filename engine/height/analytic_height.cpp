@@ -20,13 +20,14 @@ AnalyticWaves randomWaves(std::mt19937& rng, float amplitude, float maxWaveNumbe
 
 double analyticHeightRef(const AnalyticWaves& w, double x, double y) {
   auto wave = [&](int k) { return glm::dvec4(w.waves[k][0], w.waves[k][1], w.waves[k][2], w.waves[k][3]); };
-  return f64::analyticHeight(x, y, double(w.base), wave(0), wave(1), wave(2), wave(3));
+  return f64::analyticHeight(x, y, double(w.base), wave(0), wave(1), wave(2), wave(3),
+                             glm::dvec4(w.sigma[0], w.sigma[1], w.sigma[2], w.sigma[3]));
 }
 
 AnalyticHeightField createAnalyticHeightField(Context& ctx, const AnalyticWaves& waves) {
   AnalyticHeightField f;
   f.waves = waves;
-  f.pipeline = createComputePipeline(ctx, "analytic_heights", {kStorageBuffer, kStorageBuffer}, 72);
+  f.pipeline = createComputePipeline(ctx, "analytic_heights", {kStorageBuffer, kStorageBuffer}, 88);
   return f;
 }
 
@@ -36,11 +37,14 @@ HeightSource heightSource(const AnalyticHeightField& field) {
     if (count == 0) return;
     struct {
       float waves[4][4];
+      float sigmas[4];
       float base;
       uint32_t count;
     } push{};
+    static_assert(sizeof(push) == 88, "analytic_heights.comp's push constants");
     for (int k = 0; k < 4; k++)
       for (int c = 0; c < 4; c++) push.waves[k][c] = field.waves.waves[k][c];
+    for (int k = 0; k < 4; k++) push.sigmas[k] = field.waves.sigma[k];
     push.base = field.waves.base;
     push.count = count;
     cmdDispatch(cb, field.pipeline, {bind(points), bind(heights)}, &push, groupsFor(count, 64));

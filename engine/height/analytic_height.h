@@ -1,5 +1,5 @@
 #pragma once
-// A closed-form height field H(x, y) = base + sum_k a_k sin(kx_k x + ky_k y + phase_k)
+// A closed-form height field H(x, y) = base + four directional sines or radial ripples
 // (shaders/include/analytic_height.glsl) on the GPU and in double on the CPU: a surface to
 // test and measure the water-surface geometry with, independent of the MLP.
 #include <random>
@@ -11,7 +11,8 @@ namespace refrax {
 
 struct AnalyticWaves {
   float base = 0;
-  float waves[4][4] = {};  // (amplitude, kx, ky, phase)
+  float waves[4][4] = {};  // (amplitude, kx, ky, phase), or a ripple's (amplitude, cx, cy, k)
+  float sigma[4] = {};     // 0: waves[k] is a sine; > 0: a ripple with this envelope width
 };
 
 // Random ripples: amplitudes up to `amplitude`, wave numbers up to `maxWaveNumber`.
