@@ -36,9 +36,9 @@
 #   --models "LIST"  train only these of the five models (default all; the summary leaves the
 #              others' columns empty)
 #   --baseline DIR   take the rows of the models other than the method from DIR, an earlier
-#              invocation with the same set, scenes, seeds, steps, size and train flags and the
-#              same training code: candidate method flags are then compared against one
-#              trained set of straight rays, flat planes, dry controls and oracles
+#              invocation with the same set, scenes, seeds, steps, size and train flags: candidate
+#              method flags (or code) are then compared against one trained set of straight rays,
+#              flat planes, dry controls and oracles; other training code is recorded, not refused
 #   --dataset-size  tiny caps the scenes at 64 px (CI); default full: the drawn 96-400 px
 #   --resume   keep the rows in DIR/rows from an earlier invocation with the same settings and
 #              the same training code (git's hash of engine/ shaders/ trainer/ CMakeLists.txt;
@@ -151,8 +151,13 @@ if [ $charts_only = 0 ]; then
     base_code=$(sed -n 's/^code=//p' "$baseline/run_info.txt")
     [ "$base_settings" = "$common_settings" ] ||
       { echo "generalise: --baseline: $baseline was trained with other settings (${base_settings:-not recorded}), not these ($common_settings)" >&2; exit 2; }
-    [ "$code" != unknown ] && [ "$base_code" = "$code" ] ||
-      { echo "generalise: --baseline: $baseline comes from training code ${base_code:-not recorded}, and this checkout's is $code (unknown outside a clean git checkout)" >&2; exit 2; }
+    # Other training code is allowed (a candidate default is often a code change) but recorded:
+    # the summary's settings name the baseline's code beside this one's.
+    if [ "$base_code" != "$code" ]; then
+      echo "generalise: --baseline: $baseline comes from training code ${base_code:-not recorded}, this checkout's is $code: recorded in run_info.txt" >&2
+      printf 'baseline_code=%s\n' "${base_code:-not recorded}" >>"$out/run_info.txt"
+      settings="$settings, other models' rows from training code ${base_code:-not recorded}"
+    fi
     for m in "${all_models[@]}"; do
       [ "$m" != method ] || continue
       for f in "$baseline"/rows/scene_*_"$m".csv; do

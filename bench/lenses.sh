@@ -44,7 +44,7 @@ for model in $models; do
   for seed in $seeds; do
     run=$work/$model-seed$seed
     # shellcheck disable=SC2086  # FLAGS is a list of options
-    [ -f "$run/metrics.json" ] || "$REFRAX" train "$data" -o "$run" --steps "$steps" --seed "$seed" --progress-every 250 $flags > "$run.line" 2> "$run.log" ||
+    [ -f "$run/metrics.json" ] || "$REFRAX" train "$data" -o "$run" --recipe reference --steps "$steps" --seed "$seed" --progress-every 250 $flags > "$run.line" 2> "$run.log" ||
       { echo "lenses.sh: training $model seed $seed failed ($run.log)" >&2; exit 1; }
     echo "$model seed $seed: $(cat "$run.line")"
     runs+=("$run")

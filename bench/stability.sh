@@ -73,7 +73,7 @@ dry_control=0
 case $mode in
   full)
     synth_size=(--size full)
-    train_opts=(--steps "${steps:-15000}" --gaussians 20000 --sh-degree 3 --checkpoint-every 0 --progress-every 500)
+    train_opts=(--recipe reference --steps "${steps:-15000}" --gaussians 20000 --sh-degree 3 --checkpoint-every 0 --progress-every 500)
     sizes="nerfrac-primary-sine --size full (392 x 392 px, 8 training views, 1 test view); ${steps:-15000} steps on whole images, 20,000 initial Gaussians, SH degree 3"
     model_opts=("" "--flat-water" "--no-refraction") ;;
   medium)
@@ -82,7 +82,7 @@ case $mode in
     synth_size=(--size full --width 128)
     amplitudes="0.25 0.5 1 1.6 2.4"
     dry_control=1
-    train_opts=(--steps "$n" --eval-every "$n" --density-reset-every 0 --sh-degree 0 --checkpoint-every 0 --progress-every 500)
+    train_opts=(--recipe reference --steps "$n" --eval-every "$n" --density-reset-every 0 --sh-degree 0 --checkpoint-every 0 --progress-every 500)
     # the model options of bench/presets.sh --cpu-full (refraction-sweep, flat-water-sweep,
     # no-refraction-sweep), restarts moved with the step count
     start="--init-depth sweep --restart-gaussians $restarts"
@@ -91,7 +91,7 @@ case $mode in
     sizes="nerfrac-primary-sine --size full --width 128 (128 x 128 px, 8 training views, 1 test view); $n steps on whole images, model size derived from the data, SH degree 0, the settings of the full-size table (bench/presets.sh --cpu-full), restarts at steps $restarts" ;;
   *)
     synth_size=(--size tiny --width 48)
-    train_opts=(--steps "${steps:-300}" --gaussians 1500 --patch 32 --sh-degree 0 --checkpoint-every 0 --progress-every 50)
+    train_opts=(--recipe reference --steps "${steps:-300}" --gaussians 1500 --patch 32 --sh-degree 0 --checkpoint-every 0 --progress-every 50)
     sizes="nerfrac-primary-sine --size tiny --width 48 (48 x 48 px, 8 training views, 1 test view); ${steps:-300} steps on 32 x 32 patches, 1,500 initial Gaussians, SH degree 0"
     model_opts=("" "--flat-water" "--no-refraction") ;;
 esac

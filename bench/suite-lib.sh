@@ -74,7 +74,7 @@ suite_train() {
   mkdir -p "$work/runs"
   local t0
   t0=$(date +%s)
-  if "$REFRAX" train "$data" -o "$run" --checkpoint-every 0 --progress-every 100000 "$@" > "$work/runs/$name.log" 2>&1; then
+  if "$REFRAX" train "$data" -o "$run" --recipe reference --checkpoint-every 0 --progress-every 100000 "$@" > "$work/runs/$name.log" 2>&1; then
     "$REFRAX" report "$run" -o "$csv" --append --evaluations --set "$set" > /dev/null
     echo "  $name: $(tail -n 1 "$work/runs/$name.log") [$(( $(date +%s) - t0 )) s wall]"
   else
@@ -95,7 +95,7 @@ suite_warmup() {
   # refuses: the warm-up restarts at step 2 instead (the last --restart-gaussians counts).
   local restart=()
   case " $* " in *" --restart-gaussians "*) restart=(--restart-gaussians 2) ;; esac
-  "$REFRAX" train "$data" -o "$dir" "$@" --steps 4 --surface-freeze 0 --face-normals-until 2 --eval-every 2 \
+  "$REFRAX" train "$data" -o "$dir" --recipe reference "$@" --steps 4 --surface-freeze 0 --face-normals-until 2 --eval-every 2 \
     --checkpoint-every 0 --progress-every 100000 ${restart[@]+"${restart[@]}"} > "$work/warmup.log" 2>&1 ||
     echo "  warm-up failed (the run will say why): $(tail -n 1 "$work/warmup.log")" >&2
   rm -rf "$dir"
@@ -111,7 +111,7 @@ suite_step_seconds() {
   suite_warmup "$data" "$@"
   local dir=$work/timing
   rm -rf "$dir" "$work/timing.csv"
-  "$REFRAX" train "$data" -o "$dir" "$@" --steps 8 --eval-every 2 --surface-freeze 0 --checkpoint-every 0 --progress-every 100000 > "$work/timing.log" 2>&1 &&
+  "$REFRAX" train "$data" -o "$dir" --recipe reference "$@" --steps 8 --eval-every 2 --surface-freeze 0 --checkpoint-every 0 --progress-every 100000 > "$work/timing.log" 2>&1 &&
     "$REFRAX" report "$dir" -o "$work/timing.csv" --evaluations > /dev/null &&
     awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "eval_step") a = i; if ($i == "eval_seconds") b = i }; next }
       $a == 2 { s0 = $b } $a == 8 { s1 = $b } END { printf "%.4f\n", (s1 - s0) / 6 }' "$work/timing.csv" ||

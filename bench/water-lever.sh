@@ -40,7 +40,7 @@ work=$out/work
 mkdir -p "$work" "$out/$name"
 data=$work/data-$preset-$width
 [ -f "$data/water.json" ] || "$REFRAX" synth "$preset" --size full --width "$width" -o "$data" > /dev/null
-common=(--steps "$steps" --sh-degree 0 --density-reset-every 0 --checkpoint-every 0 --progress-every 500)
+common=(--recipe reference --steps "$steps" --sh-degree 0 --density-reset-every 0 --checkpoint-every 0 --progress-every 500)
 echo "seed,amplitude_ratio,rms_error_m,surface_sweep_ratio,detail" > "$out/$name/amplitude.csv"
 runs=()
 for seed in $seeds; do

@@ -76,7 +76,7 @@ lap align
 
 # The demo's refraction settings (scripts/demo.sh), shorter.
 STEPS=${REFRAX_COLMAP_STEPS:-1000}
-TRAIN=(--steps "$STEPS" --gaussians 2000 --max-gaussians 4000 --patch 32 --density-reset-every 0 --sh-degree 0
+TRAIN=(--recipe reference --steps "$STEPS" --gaussians 2000 --max-gaussians 4000 --patch 32 --density-reset-every 0 --sh-degree 0
        --progress-every 250 --checkpoint-every 0 --mlp-coarse-octaves 3 --octaves-open-until 100000000 --surface-lr 3e-3
        --surface-freeze $((STEPS * 2 / 15)) --anchor-mean-height --level-prior 1000 --init-depth sweep
        --restart-gaussians $((STEPS / 3)),$((STEPS * 8 / 15)) --surface-batch views)

@@ -157,7 +157,7 @@ done
 data=$out/nerfrac-primary-sine
 run 600 synth "$REFRAX" synth nerfrac-primary-sine --size full -o "$data"
 limit=$(awk -v m="$train_minutes" 'BEGIN { printf "%d", m * 60 }')
-run $((limit + 300)) train "$REFRAX" train "$data" -o "$out/run" --steps 15000 --time-limit "$limit" --checkpoint-every 0 --progress-every 500 --profile
+run $((limit + 300)) train "$REFRAX" train "$data" -o "$out/run" --recipe reference --steps 15000 --time-limit "$limit" --checkpoint-every 0 --progress-every 500 --profile
 if [ -f "$out/run/metrics.json" ]; then
   # the profile line ("profile: N steps, X ms per step (median ...)") and the summary line (test psnr ...)
   note "training (nerfrac-primary-sine, full size, whole 392^2 images, the reference settings): $(grep -m 1 '^profile:' "$out/train.log"); $(grep -m 1 '^test psnr' "$out/train.log")"

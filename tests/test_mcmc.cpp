@@ -170,7 +170,7 @@ TEST_CASE("train: --densify-strategy mcmc grows the count 5% per densification, 
   const std::string data = test::tinyDataset("nerfrac-primary-sine");
   const std::string run = (dir / "mcmc");
   nlohmann::json metrics = test::trainAndReadMetrics(data, run,
-                                                     "--steps 40 --gaussians 300 --max-gaussians 10000 --patch 16 --densify-strategy mcmc "
+                                                     "--recipe reference --steps 40 --gaussians 300 --max-gaussians 10000 --patch 16 --densify-strategy mcmc "
                                                      "--densify-from 10 --densify-every 10 --densify-until 30 --checkpoint-every 0");
   // 300 -> 315 -> 330 -> 346 at steps 10, 20, 30 (5%, rounded down); none is ever removed.
   CHECK(metrics["gaussians"].get<int>() == 346);

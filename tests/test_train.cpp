@@ -181,7 +181,7 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
 // this test's 3 dB bar a coin toss (docs/experiments/2026-11-26-surface-batch.md, 2026-11-27).
 const char* kStrongWaveSynth = "--width 96 --ior 1.33 --wave-amplitude 2";
 const char* kStrongWaveOptions =
-    " --steps 4000 --patch 64 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0 --progress-every 500 "
+    " --recipe reference --steps 4000 --patch 64 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0 --progress-every 500 "
     "--checkpoint-every 0";
 const char* kStrongWaveJoint = " --mlp-octaves 4 --grid-cells 16 --subdivision 2"
                                " --mlp-coarse-octaves 3 --octaves-open-until 10000000 --surface-lr 3e-3 --surface-freeze 400 --anchor-mean-height"
@@ -493,7 +493,7 @@ TEST_CASE("train: --surface-lr sets the surface's first Adam step, survives conf
   // Adam's first step moves each parameter by the learning rate (|m / sqrt(v)| = 1), so a flat
   // plane unfrozen from step 0 ends one step at +-0.02 from its start (the water height, 0).
   nlohmann::json m = test::trainAndReadMetrics(
-      data, dir / "flat", " --flat-water --surface-lr 0.02 --surface-freeze 0 --lr-steps 100000000 --steps 1 --gaussians 200 --patch 16 --checkpoint-every 0");
+      data, dir / "flat", " --recipe reference --flat-water --surface-lr 0.02 --surface-freeze 0 --lr-steps 100000000 --steps 1 --gaussians 200 --patch 16 --checkpoint-every 0");
   CHECK(std::abs(m["flat_water_height"].get<double>()) == doctest::Approx(0.02).epsilon(1e-3));
   TrainConfig c = trainConfigFromJson(readJson(dir / "flat/config.json"), "config.json");
   CHECK(c.surfaceLearningRate == 0.02);
@@ -572,7 +572,7 @@ TEST_CASE("train: --surface-until freezes the water after its last surface step,
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   // The flat plane's first Adam step moves it by exactly the learning rate; stopped after step
   // 1, three steps leave it there, where without the option the later steps move it on.
-  std::string flat = " --flat-water --surface-lr 0.02 --surface-freeze 0 --lr-steps 100000000 --gaussians 200 --patch 16 --checkpoint-every 0 --steps 3";
+  std::string flat = " --recipe reference --flat-water --surface-lr 0.02 --surface-freeze 0 --lr-steps 100000000 --gaussians 200 --patch 16 --checkpoint-every 0 --steps 3";
   const double learned = test::trainAndReadMetrics(data, dir / "flat", flat)["flat_water_height"].get<double>();
   CHECK(std::abs(learned) > 0.021);
   CHECK(std::abs(test::trainAndReadMetrics(data, dir / "flat1", flat + " --surface-until 1")["flat_water_height"].get<double>()) ==
@@ -580,7 +580,7 @@ TEST_CASE("train: --surface-until freezes the water after its last surface step,
   // The height MLP: stopped after its surface step at step 2 (--surface-batch 2; N = 3 is no
   // surface step), four steps end with the heights of two. (The schedules that scale with
   // --steps are fixed, so the first two steps are alike.)
-  std::string mlp = " --surface-lr 0.01 --surface-freeze 0 --lr-steps 100000000 --face-normals-until 0 --mlp-width 16 --mlp-layers 1 "
+  std::string mlp = " --recipe reference --surface-lr 0.01 --surface-freeze 0 --lr-steps 100000000 --face-normals-until 0 --mlp-width 16 --mlp-layers 1 "
                     "--gaussians 200 --patch 16 --checkpoint-every 0 --surface-batch 2";
   test::trainAndReadMetrics(data, dir / "mlp2", mlp + " --steps 2");
   test::trainAndReadMetrics(data, dir / "until3", mlp + " --steps 4 --surface-until 3");
@@ -679,7 +679,7 @@ void checkPriorWeightKeptAndValidated(const fs::path& withPrior, double weight, 
 void checkPriorLowersItsEnergy(const std::string& priorFlag, const char* energyName, const std::function<double(const fs::path&)>& energy,
                                const fs::path& dir) {
   std::string data = test::tinyDataset("nerfrac-primary-sine");
-  std::string options = " --seed 3 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 --patch 16 --checkpoint-every 0";
+  std::string options = " --recipe reference --seed 3 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 --patch 16 --checkpoint-every 0";
   std::string learn = options + " --steps 8 --surface-freeze 0 --surface-lr 1e-2";
   test::trainAndReadMetrics(data, dir / "prior", learn + " " + priorFlag);
   test::trainAndReadMetrics(data, dir / "free", learn);
@@ -747,7 +747,7 @@ TEST_CASE("train: the height encoding opens coarse to fine between the surface f
   TrainTempDir dir;
   std::string data = test::tinyDataset("nerfrac-primary-sine");
   test::trainAndReadMetrics(data, dir / "run",
-                            " --steps 4 --mlp-octaves 6 --mlp-coarse-octaves 3 --surface-freeze 0 --octaves-open-until 100 --gaussians 200 --patch 16 "
+                            " --recipe reference --steps 4 --mlp-octaves 6 --mlp-coarse-octaves 3 --surface-freeze 0 --octaves-open-until 100 --gaussians 200 --patch 16 "
                             "--checkpoint-every 0 "
                             "--mlp-width 16 --mlp-layers 2");
   Context& ctx = test::context();
@@ -762,7 +762,7 @@ TEST_CASE("train: --anchor-mean-height keeps the mean height the training views 
   // from step 0: with the anchor the mean of the saved grid, each vertex weighted by the
   // training views that see it, is the height; without it it is not, and the unweighted mean
   // (corners one view sees included at full weight) is not either.
-  std::string options = " --steps 6 --seed 1 --surface-freeze 0 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 "
+  std::string options = " --recipe reference --steps 6 --seed 1 --surface-freeze 0 --mlp-init-range 0.1 --mlp-width 16 --mlp-layers 2 --gaussians 200 "
                         "--patch 16 --checkpoint-every 0";
   test::trainAndReadMetrics(data, dir / "anchored", options + " --anchor-mean-height");
   test::trainAndReadMetrics(data, dir / "free", options);

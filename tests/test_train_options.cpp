@@ -29,7 +29,7 @@ TrainConfig resolvedConfig() {
 // (empty: the option takes any value of its type).
 const std::map<std::string, std::pair<std::string, std::string>> kSamples = {
     {"no-refraction", {"", ""}}, {"flat-water", {"", ""}}, {"known-water", {"", ""}},
-    {"steps", {"123", "0"}}, {"seed", {"77", "-1"}}, {"gaussians", {"321", "0"}}, {"init-depth", {"sweep", "deep"}}, {"init-points", {"", ""}},
+    {"recipe", {"method", "paper"}}, {"steps", {"123", "0"}}, {"seed", {"77", "-1"}}, {"gaussians", {"321", "0"}}, {"init-depth", {"sweep", "deep"}}, {"init-points", {"", ""}},
     {"gaussians-from", {"oracle/point_cloud.ply", ""}}, {"gaussians-fixed", {"", ""}},
     {"max-gaussians", {"2000000", "0"}}, {"initial-density", {"0.25", "1"}}, {"sh-degree", {"1", "4"}},
     {"k-buffer", {"16", "65"}}, {"hit-records", {"8", "1025"}}, {"proxy", {"instanced", "sphere"}},
@@ -39,7 +39,7 @@ const std::map<std::string, std::pair<std::string, std::string>> kSamples = {
     {"patch", {"16", "16385"}}, {"density-decay", {"0.5", "0"}}, {"density-loss", {"0.5", "1001"}},
     {"surface-batch", {"views", "0"}}, {"surface-freeze", {"11", "-2"}}, {"surface-until", {"4000", "-2"}}, {"face-normals-until", {"12", "-2"}},
     {"surface-smoothness", {"0.1", "-1"}}, {"level-prior", {"1000", "inf"}}, {"anchor-mean-height", {"", ""}},
-    {"water-sign-check", {"", ""}},
+    {"water-sign-check", {"", ""}}, {"surface-gate", {"1.05", "-1"}},
     {"octaves-open-until", {"13", "-2"}}, {"sh-interval", {"14", "-2"}}, {"density-reset-every", {"15", "-2"}},
     {"density-reset-until", {"16", "-2"}}, {"density-decay-every", {"17", "-2"}}, {"densify-from", {"18", "-2"}},
     {"densify-every", {"19", "-2"}}, {"densify-until", {"20", "-2"}}, {"no-densify", {"", ""}},

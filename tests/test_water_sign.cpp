@@ -11,6 +11,7 @@
 #include "engine/base/error.h"
 #include "engine/dataset/ground_truth.h"
 #include "engine/height/analytic_height.h"
+#include "engine/model/model.h"
 #include "engine/train/train_session.h"
 #include "engine/vk/vk_buffer.h"
 #include "engine/vk/vk_commands.h"
@@ -153,6 +154,43 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
     CHECK(inverted->log.signChecks[0].mirrored);
     CHECK(correlationWith(*inverted, truth) > 0.8);
     trainStep(*inverted);  // it trains on
+  }
+
+  SUBCASE("--surface-gate: at a restart, water the views agree less through than flat water starts again from flat") {
+    // Waves three times too high and shifted by a quarter period: wrong water the sweep sees.
+    auto wrong = [&](double x, double y) {
+      AnalyticWaves w = waves;
+      for (auto& k : w.waves) k[0] *= 3, k[3] += 1.5707963f;
+      return analyticHeightRef(w, x, y);
+    };
+    c.surfaceGate = 1.0;
+    c.surfaceBatch = 1000;  // no surface step at step 1: what the restart finds is what was fitted
+    auto s = createTrainSession(ctx, c, d);
+    fitHeightField(ctx, *s, wrong);
+    CHECK(trainStep(*s).restarted);
+    REQUIRE(s->log.gateChecks.size() == 1);
+    const SweepAgreement& a = s->log.gateChecks[0].agreement;
+    MESSAGE("the wrong waves' sweep cost: " << a.cost / a.reference << "x flat water's");
+    CHECK(a.cost > a.reference);
+    CHECK(s->log.gateChecks[0].reset);
+    CHECK(downloadWeights(ctx, *s->model.height) == initialHeightWeights(s->model.height->config, heightFieldSeed(c)));
+    CHECK(s->model.height->config.initialHeight == float(level));
+    const std::vector<double> start = sampleWaterHeights(createTrainSession(ctx, c, d)->model, 24, 24), now = sampleWaterHeights(s->model, 24, 24);
+    for (size_t k = 0; k < start.size(); k++) CHECK(now[k] == doctest::Approx(start[k]).epsilon(1e-6).scale(1e-6));  // the flat start's heights
+    trainStep(*s);  // it trains on
+
+    c.surfaceGate = 1e9;  // a gate that passes everything keeps the wrong water, and records it
+    auto kept = createTrainSession(ctx, c, d);
+    fitHeightField(ctx, *kept, wrong);
+    const std::vector<float> weights = downloadWeights(ctx, *kept->model.height);
+    CHECK(trainStep(*kept).restarted);
+    REQUIRE(kept->log.gateChecks.size() == 1);
+    CHECK_FALSE(kept->log.gateChecks[0].reset);
+    CHECK(downloadWeights(ctx, *kept->model.height) == weights);
+
+    CHECK(trainConfigFromJson(trainConfigToJson(c), "test").surfaceGate == 1e9);
+    c.schedule.gaussianRestarts = {};
+    CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--surface-gate"), Error);
   }
 
   SUBCASE("the option survives config.json and needs a learned water and a restart") {

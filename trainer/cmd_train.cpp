@@ -17,6 +17,7 @@
 #include "engine/train/checkpoint.h"
 #include "engine/train/model_sizing.h"
 #include "engine/run/train_options.h"
+#include "engine/run/train_recipe.h"
 #include "engine/train/train_run.h"
 #include "engine/run/train_views.h"
 #include "engine/vk/vk_context.h"
@@ -26,6 +27,13 @@
 
 namespace refrax {
 namespace {
+
+// Whether the command line gave the option of a config.json key.
+bool givenOnCommandLine(const cli::Args& a, const std::string& key) {
+  for (const TrainOption& o : trainOptionTable())
+    if (o.key == key) return !o.flag.empty() && a.has(o.flag);
+  return false;
+}
 
 // The training options from the command line, through the table (engine/run/train_options.h):
 // each given flag's text parsed and checked by its row, the rest TrainConfig's defaults.
@@ -42,15 +50,31 @@ TrainConfig configFromArgs(const cli::Args& a) {
     const std::string name = "--" + o.flag;
     o.set(c, o.parse(a.get(o.flag), name), name);
   }
-  auto given = [&](const std::string& key) {
-    for (const TrainOption& o : trainOptionTable())
-      if (o.key == key) return !o.flag.empty() && a.has(o.flag);
-    return false;
-  };
+  auto given = [&](const std::string& key) { return givenOnCommandLine(a, key); };
   applyDerivedDefaults(c, given);
+  if (!a.has("recipe")) c.recipe = Recipe::Method;  // TrainConfig{}'s values are the reference's
   for (const std::string& key : sizedConfigKeys())
     if (!given(key)) c.sizeFromData.insert(key);
   return c;
+}
+
+// The recipe's choices for this dataset and device; returns them as the line that names the
+// flags that would give them (empty: none).
+std::string applyRecipeFor(TrainConfig& c, const cli::Args& a, const Dataset& d, const DeviceCaps& caps) {
+  int width = 1 << 30, height = 1 << 30;
+  for (const View& v : d.split("train")) width = std::min(width, v.camera.width), height = std::min(height, v.camera.height);
+  const RecipeDevice device{caps.type == VK_PHYSICAL_DEVICE_TYPE_CPU};
+  auto given = [&](const std::string& key) { return givenOnCommandLine(a, key); };
+  const std::vector<RecipeChoice> chosen = applyRecipe(c, given, device, width, height);
+  if (chosen.empty()) return "";
+  std::string flags;
+  for (const RecipeChoice& choice : chosen) {
+    std::string flag = choice.key;
+    for (const TrainOption& o : trainOptionTable())
+      if (o.key == choice.key) flag = o.flag;
+    flags += " --" + flag + (choice.value == "true" ? "" : " " + choice.value);
+  }
+  return std::string("the method's settings for a ") + (device.cpu ? "CPU" : "GPU") + " device (--recipe reference: the paper's schedule):" + flags;
 }
 
 // "model size from the data: --mlp-octaves 6 (why)" for each value the data chose.
@@ -159,10 +183,13 @@ int runTrain(const cli::Args& args) {
   Dataset dataset = loadDataset(config.dataset, config.datasetOptions);
   for (const std::string& note : dataset.notes) std::fprintf(stderr, "%s: %s\n", config.dataset.c_str(), note.c_str());
   keepTrainViews(dataset, config.trainViews);  // before the scene bounds: they come from the views trained on
+  auto ctx = cli::openContext(args, false);  // the recipe sizes the run for the device
+  const std::string recipe = applyRecipeFor(config, args, dataset, ctx->caps);
   resolveSceneConfig(config, dataset);
-  // Everything checked: the run folder appears only now (and goes again if the device fails).
+  // Everything checked: the run folder appears only now, and the log begins.
   auto folder = cli::claimOutputFolder(run, "-o", advice);  // held until the run ends
-  auto ctx = cli::openContext(args);
+  printContextLine(*ctx);
+  if (!recipe.empty()) std::fprintf(stderr, "%s\n", recipe.c_str());
   auto session = createTrainSession(*ctx, config, std::move(dataset));
   folder->keep();
   writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->model.config));

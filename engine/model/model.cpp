@@ -43,6 +43,15 @@ HeightFieldConfig heightFieldConfig(const TrainConfig& c) {
 
 }  // namespace
 
+uint32_t heightFieldSeed(const TrainConfig& c) { return uint32_t(c.seed * 7919u + 3u); }
+
+void restartHeightField(Model& m) {
+  HeightField& hf = *m.height;
+  uploadWeights(*m.ctx, hf, initialHeightWeights(hf.config, heightFieldSeed(m.config)));
+  hf.config.initialHeight = float(m.config.waterHeight);
+  liftSurface(m);
+}
+
 void initModel(Model& m, Context& ctx, const TrainConfig& config, const Dataset& dataset) {
   m.ctx = &ctx;
   m.config = config;
@@ -54,7 +63,7 @@ void initModel(Model& m, Context& ctx, const TrainConfig& config, const Dataset&
     for (const auto& v : views) most = std::max(most, uint32_t(v.camera.width * v.camera.height));
   allocateModelRays(m, most);
   if (config.model == WaterModel::Refraction)
-    m.height.emplace(createHeightField(ctx, heightFieldConfig(config), uint32_t(config.seed * 7919u + 3u)));
+    m.height.emplace(createHeightField(ctx, heightFieldConfig(config), heightFieldSeed(config)));
   if (config.model == WaterModel::FlatWater) {
     m.planeHeight = config.waterHeight;
     AnalyticWaves w;

@@ -74,6 +74,11 @@ void uploadModelGaussians(Model& m);
 HeightSource currentHeightSource(const Model& m);
 // Lifts the surface from the current height source again (after the parameters changed).
 void liftSurface(Model& m);
+// The height MLP's initialisation seed, from the run's seed.
+uint32_t heightFieldSeed(const TrainConfig& config);
+// The height MLP back to its initial weights and level (the run's flat start; its encoding
+// window as it is now), and the surface lifted from it.
+void restartHeightField(Model& m);
 // The proxy-surface configuration (domain, grid, levels, IOR, ray capacity).
 WaterSurfaceConfig surfaceConfigFor(const Model& m);
 // Makes room for `rays` rays per pass (a render larger than the dataset's images): new ray

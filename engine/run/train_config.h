@@ -28,6 +28,10 @@ WaterModel parseWaterModel(const std::string& name);
 // The choices of the options table's "choice" rows: parsed from their names ("box", "mcmc")
 // once, by the table (engine/run/train_options.cpp), and compared as enums where they are used.
 enum class InitDepth { Box, Sweep };
+// Which settings fill what the command line leaves open (engine/run/train_recipe.h): Method,
+// the defaults of `refrax train`; Reference, the paper's schedule (TrainConfig's initialisers,
+// and every run written before recipes).
+enum class Recipe { Method, Reference };
 enum class DensifyStrategy { Reference3dgs, Mcmc };
 
 struct ScheduleSteps {
@@ -52,6 +56,9 @@ struct TrainConfig {
   std::string dataset;
   DatasetOptions datasetOptions;  // as given on the command line (overrides water.json)
   WaterModel model = WaterModel::Refraction;
+  // The recipe the run's open settings came from; the values below are the reference's, which
+  // `refrax train` replaces with the method's (applyRecipe) unless --recipe reference.
+  Recipe recipe = Recipe::Reference;
   int steps = 15000;
   uint64_t seed = 1;
 
@@ -108,6 +115,14 @@ struct TrainConfig {
   // restart discards the Gaussians fitted to the old sign anyway
   // (docs/experiments/2026-11-28-upside-down-water.md). Off by default: a method setting.
   bool waterSignCheck = false;
+  // At each --restart-gaussians step, before the Gaussians are drawn afresh, sweep the views
+  // through the learned water and through flat water; when their colours agree less through the
+  // learned water (its plane-sweep cost above surfaceGate times the flat water's), the water
+  // starts again from its initial state (SurfaceGateCheck). Why: on a top-down rig the surface
+  // ran away to 24 cm RMS while the training loss fell, as the Gaussians fitted each
+  // distortion it made; the sweep does not pass through the Gaussians, so they cannot make it
+  // agree. 0 (the reference): no gate.
+  double surfaceGate = 0;
   // Last-layer initial range: the reference's 0.1 starts a 64-wide MLP with height noise of
   // about +-0.3 (larger than the waves of the scenes); a small range starts nearly flat.
   double mlpInitRange = 1e-3;

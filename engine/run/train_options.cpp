@@ -234,6 +234,15 @@ std::vector<TrainOption> makeTable() {
     };
     t.push_back(m);
   }
+  {
+    // Absent from runs written before recipes: the reference, which they trained with.
+    TrainOption r = choice("recipe", "recipe", "NAME",
+                           "what fills the settings not given: method (the defaults: sized from the data and the device, whole images on "
+                           "a GPU, patches on a CPU; docs/training.md) or reference (the paper's schedule, for studies)",
+                           field(&TrainConfig::recipe), {{"method", Recipe::Method}, {"reference", Recipe::Reference}});
+    r.shownDefault = "method";
+    t.push_back(r);
+  }
   t.push_back(required(resumable(integer<int>("steps", "steps", "N", "training steps (one training image or patch each)", field(&TrainConfig::steps),
                                                 1, 10000000))));
   t.push_back(required(integer<uint64_t>("seed", "seed", "S", "random seed (initial Gaussians, height field, view order, patches)",
@@ -360,6 +369,11 @@ std::vector<TrainOption> makeTable() {
                            "views agree clearly more through it (a plane sweep of each): waves learned upside down fit the views "
                            "nearly as well (docs/training.md)",
                            field(&TrainConfig::waterSignCheck), true));
+  t.push_back(real("surface-gate", "surface_gate", "X",
+                   "at each --restart-gaussians step, the learned water starts again from flat when the training views' colours agree "
+                   "less through it than through flat water (a plane sweep of each: its cost above X times the flat water's); the "
+                   "Gaussians cannot make such a sweep agree (docs/training.md) (0: off)",
+                   field(&TrainConfig::surfaceGate), 0, false, inf, false));
   {
     TrainOption o = step("octaves-open-until", "octaves_open_until",
                          "every encoding octave open from step N (the window opens linearly from --surface-freeze)",

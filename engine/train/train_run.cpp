@@ -127,6 +127,17 @@ std::string signCheckLine(const WaterSignCheck& c) {
   return text;
 }
 
+// The line after a restart step's --surface-gate.
+std::string gateLine(const SurfaceGateCheck& c) {
+  char text[400];
+  const double ratio = c.agreement.reference > 0 ? c.agreement.cost / c.agreement.reference : 0.0;
+  std::snprintf(text, sizeof text, "step %d: the training views' plane-sweep colour variance through the learned water is %.3gx flat water's: %s",
+                c.step, ratio,
+                c.reset ? "they agree less through it than through flat water, so the water starts again from flat (--surface-gate)"
+                        : "the learned water kept");
+  return text;
+}
+
 // A resumed run's samples up to its checkpoint (kept on disk as they grow, like evaluations).
 std::vector<SurfaceWatchSample> readSurfaceWatch(const std::string& runDir, int upToStep) {
   std::vector<SurfaceWatchSample> kept;
@@ -208,6 +219,14 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
                         {"mirrored", c.mirrored}});
     m["water_sign_checks"] = checks;  // this process's (a resumed run's start at its checkpoint)
   }
+  if (!s.log.gateChecks.empty()) {
+    nlohmann::json checks = nlohmann::json::array();
+    for (const SurfaceGateCheck& c : s.log.gateChecks)
+      checks.push_back({{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
+                        {"cells", c.agreement.cells}, {"ratio", c.agreement.reference > 0 ? c.agreement.cost / c.agreement.reference : 0.0},
+                        {"reset", c.reset}});
+    m["surface_gate_checks"] = checks;  // this process's (a resumed run's start at its checkpoint)
+  }
   if (!s.log.surfaceWatch.empty()) {
     m["surface_watch"] = surfaceWatchJson(s.log.surfaceWatch);
     const RougheningVerdict verdict = judgeRoughening(s.log.surfaceWatch, s.model.config.schedule.surfaceFreeze + 1);
@@ -244,6 +263,7 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     if (r.restarted) {
       std::string how = c.initDepth == InitDepth::Sweep ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.log.sweptCellFraction))) + "% of the cells" : "";
       if (c.initPoints) how += ", " + std::to_string(s.log.gaussiansAtPoints) + " at sparse points";
+      if (!s.log.gateChecks.empty() && s.log.gateChecks.back().step == s.model.step) say(gateLine(s.log.gateChecks.back()));
       if (!s.log.signChecks.empty() && s.log.signChecks.back().step == s.model.step) say(signCheckLine(s.log.signChecks.back()));
       say("step " + std::to_string(s.model.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
     }

@@ -643,11 +643,31 @@ void checkWaterSign(TrainSession& s, int t) {
   s.log.signChecks.push_back(check);
 }
 
+// --surface-gate: the learned water starts again from flat when the views agree less through
+// it than through flat water. Its Adam's first moments are zeroed (they point the way it ran);
+// the second moments are kept, as the sign check keeps them.
+void gateWater(TrainSession& s, int t) {
+  SurfaceGateCheck check;
+  check.step = t;
+  check.agreement = agreementWithFlatWater(s);
+  const SweepAgreement& a = check.agreement;
+  check.reset = a.cells > 0 && a.cost > s.model.config.surfaceGate * a.reference;
+  if (check.reset) {
+    pushWaterGradient(s);  // settles the pending sum (then dropped with the water it was for)
+    fillBuffer(*s.model.ctx, s.water.heightGrad, 0);
+    restartHeightField(s.model);
+    fillBuffer(*s.model.ctx, s.water.heightAdam.m, 0);
+    anchorMeanHeight(s);
+  }
+  s.log.gateChecks.push_back(check);
+}
+
 // The Gaussians drawn afresh when the step is one of --restart-gaussians; true if so.
 bool restartStep(TrainSession& s, int t) {
   const std::vector<int>& restarts = s.model.config.schedule.gaussianRestarts;
   if (std::find(restarts.begin(), restarts.end(), t) == restarts.end()) return false;
   HostStage h(*s.model.ctx, "restart and plane sweep");
+  if (s.model.config.surfaceGate > 0 && s.model.height && waterLearnsAt(s, t)) gateWater(s, t);
   if (s.model.config.waterSignCheck && s.model.height && waterLearnsAt(s, t)) checkWaterSign(s, t);
   drawGaussians(s);
   return true;

@@ -104,12 +104,21 @@ struct WaterSignCheck {
   bool mirrored = false;
 };
 
+// --surface-gate at a restart of this process: the learned water's plane-sweep agreement
+// against flat water's, and whether the water started again from flat.
+struct SurfaceGateCheck {
+  int step = 0;
+  SweepAgreement agreement;  // the learned water (cost) against flat water (reference)
+  bool reset = false;
+};
+
 // What the run reports of this process (refrax report, the end-of-run checks, --profile);
 // nothing here steers training.
 struct RunLog {
   DensifyStats lastDensify;
   McmcStats lastMcmc;
   std::vector<WaterSignCheck> signChecks;
+  std::vector<SurfaceGateCheck> gateChecks;
   size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
   // The learned water's shape over the seen water as of its last surface step (measured by the

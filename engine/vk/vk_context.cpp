@@ -377,10 +377,13 @@ std::unique_ptr<Context> createContext(const ContextOptions& options) {
   chooseQueueFamily(*ctx);
   createDevice(*ctx, options.extraDeviceExtensions);
   createCommandObjects(*ctx);
-  if (options.verbose)
-    std::fprintf(stderr, "refrax: device [%u] %s (%s), %s trace%s\n", ctx->caps.index, ctx->caps.name.c_str(), ctx->caps.driver.c_str(),
-                 traceBackendName(ctx->trace), ctx->validation ? ", validation on" : "");
+  if (options.verbose) printContextLine(*ctx);
   return ctx;
+}
+
+void printContextLine(const Context& ctx) {
+  std::fprintf(stderr, "refrax: device [%u] %s (%s), %s trace%s\n", ctx.caps.index, ctx.caps.name.c_str(), ctx.caps.driver.c_str(),
+               traceBackendName(ctx.trace), ctx.validation ? ", validation on" : "");
 }
 
 Context::~Context() {

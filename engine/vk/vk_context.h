@@ -102,6 +102,10 @@ struct Context {
 // Every Vulkan device the loader sees, with what each offers.
 std::vector<DeviceCaps> listDevices();
 std::unique_ptr<Context> createContext(const ContextOptions& options = {});
+// "refrax: device [i] NAME (DRIVER), BACKEND trace[, validation on]" on stderr: what
+// createContext prints when verbose (a command that checks its input after opening the device
+// prints it once the input has passed).
+void printContextLine(const Context& ctx);
 
 // Validation messages sent to any context of this process so far, including those sent
 // while a context is destroyed (leaked objects).

@@ -1,0 +1,81 @@
+#include "engine/run/train_recipe.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace refrax {
+namespace {
+
+// The method's size by device. A 32 x 32 patch step costs about a third of a 64 x 64 one on
+// lavapipe (34 against 101 ms with 7,900 Gaussians on this project's 2-core machine), and a
+// whole 252 px image about 1.5 s: a CPU trains on patches; a GPU on whole images, as the paper.
+constexpr int kGpuSteps = 15000;
+constexpr int kCpuSteps = 4000;
+constexpr uint32_t kCpuPatch = 32;
+
+// The method's surface (docs/training.md "The defaults").
+constexpr double kSurfaceLearningRate = 3e-3;
+constexpr uint32_t kCoarseOctaves = 3;
+constexpr double kLevelPrior = 1000;
+
+std::string text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<RecipeChoice> applyRecipe(TrainConfig& c, const std::function<bool(const std::string& key)>& given, const RecipeDevice& device,
+                                      int imageWidth, int imageHeight) {
+  std::vector<RecipeChoice> chosen;
+  if (c.recipe == Recipe::Reference) return chosen;
+  auto open = [&](const std::string& key) { return !given(key); };
+  auto note = [&](const std::string& key, const std::string& value) { chosen.push_back({key, value}); };
+
+  // The run's size: the device decides.
+  if (open("steps")) {
+    c.steps = device.cpu ? kCpuSteps : kGpuSteps;
+    note("steps", text(c.steps));
+  }
+  if (open("patch")) {
+    // a patch needs room to move: images under twice its side train whole
+    c.patch = device.cpu && std::min(imageWidth, imageHeight) >= int(2 * kCpuPatch) ? kCpuPatch : 0;
+    note("patch", text(c.patch));
+  }
+
+  // The Gaussians, in every model. SH degree 0: a view-dependent colour is one more way for the
+  // Gaussians to absorb the waves' distortion; no density resets (they cost the image and
+  // raised the wave only with restarts, which replace them here).
+  if (open("max_sh_degree")) c.maxShDegree = 0, note("max_sh_degree", "0");
+  if (open("schedule/density_reset_interval")) c.schedule.densityResetInterval = 0, note("schedule/density_reset_interval", "0");
+  if (open("init_depth") && c.gaussiansFrom.empty()) c.initDepth = InitDepth::Sweep, note("init_depth", "sweep");
+
+  // Where the water learns (the height field, or the flat plane): a fast surface, one step per
+  // pass over the views, and the Gaussians drawn afresh twice through the water learned so far.
+  const bool waterLearns = c.model == WaterModel::Refraction || c.model == WaterModel::FlatWater;
+  if (!waterLearns) return chosen;
+  if (open("surface_lr")) c.surfaceLearningRate = kSurfaceLearningRate, note("surface_lr", text(kSurfaceLearningRate));
+  if (open("surface_batch")) c.surfaceBatch = 0, note("surface_batch", "views");
+  if (open("schedule/surface_freeze")) {
+    c.schedule.surfaceFreeze = c.steps * 2 / 15;
+    note("schedule/surface_freeze", text(c.schedule.surfaceFreeze));
+  }
+  if (open("schedule/gaussian_restarts") && !c.gaussiansFixed) {
+    std::vector<int> restarts;
+    for (int r : {c.steps / 3, c.steps * 8 / 15})
+      if (r > 0 && r < c.steps && (restarts.empty() || r > restarts.back())) restarts.push_back(r);
+    c.schedule.gaussianRestarts = restarts;
+    std::string list;
+    for (int r : restarts) list += (list.empty() ? "" : ",") + text(r);
+    note("schedule/gaussian_restarts", list.empty() ? "0" : list);
+  }
+  if (c.model != WaterModel::Refraction) return chosen;
+  if (open("mlp_coarse_octaves")) c.mlpCoarseOctaves = kCoarseOctaves, note("mlp_coarse_octaves", text(kCoarseOctaves));
+  if (open("schedule/octaves_open_until")) c.schedule.octavesOpenUntil = 100000000, note("schedule/octaves_open_until", "100000000");
+  if (open("anchor_mean_height")) c.anchorMeanHeight = true, note("anchor_mean_height", "true");
+  if (open("level_prior")) c.levelPrior = kLevelPrior, note("level_prior", text(kLevelPrior));
+  return chosen;
+}
+
+}  // namespace refrax

@@ -1,0 +1,149 @@
+// The recipe (engine/run/train_recipe.h): what `refrax train DATA -o RUN` does with no method
+// flags. The method's settings fill only what the command line left open, sized for the
+// device and the images; the reference recipe changes nothing; a run records its recipe and
+// every value it chose, so a resumed run keeps them.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <set>
+
+#include "engine/io/json_io.h"
+#include "engine/run/train_recipe.h"
+#include "tests/gpu_test.h"
+#include "tests/train_test_util.h"
+
+using namespace refrax;
+
+namespace {
+
+TrainConfig methodConfig(WaterModel model = WaterModel::Refraction) {
+  TrainConfig c;
+  c.recipe = Recipe::Method;
+  c.model = model;
+  return c;
+}
+
+auto givenKeys(std::set<std::string> keys) {
+  return [keys](const std::string& key) { return keys.count(key) > 0; };
+}
+
+}  // namespace
+
+TEST_CASE("recipe: the method sizes the run for the device and fills the water's settings") {
+  TrainConfig cpu = methodConfig();
+  applyRecipe(cpu, givenKeys({}), RecipeDevice{true}, 252, 252);
+  CHECK(cpu.steps == 4000);
+  CHECK(cpu.patch == 32);
+  CHECK(cpu.maxShDegree == 0);
+  CHECK(cpu.schedule.densityResetInterval == 0);
+  CHECK(cpu.initDepth == InitDepth::Sweep);
+  CHECK(cpu.surfaceLearningRate == 3e-3);
+  CHECK(cpu.surfaceBatch == 0);  // views
+  CHECK(cpu.schedule.surfaceFreeze == 533);
+  CHECK(cpu.schedule.gaussianRestarts == std::vector<int>{1333, 2133});
+  CHECK(cpu.mlpCoarseOctaves == 3);
+  CHECK(cpu.anchorMeanHeight);
+  CHECK(cpu.levelPrior == 1000);
+
+  TrainConfig gpu = methodConfig();
+  applyRecipe(gpu, givenKeys({}), RecipeDevice{false}, 252, 252);
+  CHECK(gpu.steps == 15000);
+  CHECK(gpu.patch == 0);  // whole images
+  CHECK(gpu.schedule.gaussianRestarts == std::vector<int>{5000, 8000});
+
+  TrainConfig small = methodConfig();  // no room for a 32 px patch to move
+  applyRecipe(small, givenKeys({}), RecipeDevice{true}, 63, 200);
+  CHECK(small.patch == 0);
+}
+
+TEST_CASE("recipe: a flag given wins, and the schedule follows the steps given") {
+  TrainConfig c = methodConfig();
+  c.steps = 1500;
+  c.patch = 16;
+  c.levelPrior = 10;
+  c.maxShDegree = 2;
+  const std::vector<RecipeChoice> chosen =
+      applyRecipe(c, givenKeys({"steps", "patch", "level_prior", "max_sh_degree"}), RecipeDevice{true}, 252, 252);
+  CHECK(c.steps == 1500);
+  CHECK(c.patch == 16);
+  CHECK(c.levelPrior == 10);
+  CHECK(c.maxShDegree == 2);
+  CHECK(c.schedule.gaussianRestarts == std::vector<int>{500, 800});  // the demo's
+  CHECK(c.schedule.surfaceFreeze == 200);
+  for (const RecipeChoice& choice : chosen) CHECK(std::set<std::string>{"steps", "patch", "level_prior", "max_sh_degree"}.count(choice.key) == 0);
+
+  TrainConfig shortRun = methodConfig();  // too short for a restart: none, not a refused run
+  shortRun.steps = 1;
+  applyRecipe(shortRun, givenKeys({"steps"}), RecipeDevice{true}, 252, 252);
+  CHECK(shortRun.schedule.gaussianRestarts.empty());
+}
+
+TEST_CASE("recipe: the comparison models take the Gaussians' settings, not the water's") {
+  for (WaterModel model : {WaterModel::NoRefraction, WaterModel::KnownWater}) {
+    TrainConfig c = methodConfig(model);
+    applyRecipe(c, givenKeys({}), RecipeDevice{true}, 252, 252);
+    INFO(waterModelName(model));
+    CHECK(c.patch == 32);
+    CHECK(c.maxShDegree == 0);
+    CHECK(c.initDepth == InitDepth::Sweep);
+    CHECK(c.schedule.gaussianRestarts.empty());  // restarts free the water from a warped scene: no learned water, none
+    CHECK(c.surfaceLearningRate == TrainConfig{}.surfaceLearningRate);
+    CHECK(!c.anchorMeanHeight);
+  }
+  TrainConfig flat = methodConfig(WaterModel::FlatWater);  // a learned plane: the water's schedule, no height-field terms
+  applyRecipe(flat, givenKeys({}), RecipeDevice{true}, 252, 252);
+  CHECK(flat.schedule.gaussianRestarts == std::vector<int>{1333, 2133});
+  CHECK(flat.levelPrior == 0);
+
+  TrainConfig fromPly = methodConfig();  // Gaussians read from a file take no depth; fixed ones no restarts
+  fromPly.gaussiansFrom = "/x.ply";
+  fromPly.gaussiansFixed = true;
+  applyRecipe(fromPly, givenKeys({}), RecipeDevice{true}, 252, 252);
+  CHECK(fromPly.initDepth == InitDepth::Box);
+  CHECK(fromPly.schedule.gaussianRestarts.empty());
+}
+
+TEST_CASE("recipe: the reference changes nothing") {
+  TrainConfig c;
+  c.recipe = Recipe::Reference;
+  CHECK(applyRecipe(c, givenKeys({}), RecipeDevice{true}, 252, 252).empty());
+  CHECK(trainConfigToJson(c) == trainConfigToJson(TrainConfig{}));
+}
+
+TEST_CASE("recipe: refrax train records the method's choices, --recipe reference the paper's, and a resume keeps them" *
+          doctest::test_suite("one-backend")) {
+  test::TrainTempDir dir;
+  const std::string data = test::tinyDataset("nerfrac-primary-sine");
+  test::CliResult method = test::runCli("train " + data + " -o " + (dir / "method") + " --steps 12 --gaussians 200 --checkpoint-every 6");
+  INFO(method.output);
+  REQUIRE(method.exitCode == 0);
+  CHECK(method.output.find("the method's settings for a") != std::string::npos);
+  nlohmann::json c = readJson(dir / "method/config.json");
+  CHECK(c["recipe"] == "method");
+  CHECK(c["steps"] == 12);              // given
+  CHECK(c["surface_lr"] == 3e-3);       // the recipe's
+  CHECK(c["anchor_mean_height"] == true);
+  CHECK(c["schedule"]["gaussian_restarts"] == nlohmann::json::array({4, 6}));
+  // the device decides the batch: lavapipe is a CPU (patches), a GPU trains whole images
+  const bool cpu = method.output.find("for a CPU device") != std::string::npos;
+  CHECK(c["patch"] == (cpu ? 32 : 0));
+
+  test::CliResult reference =
+      test::runCli("train " + data + " -o " + (dir / "reference") + " --recipe reference --steps 12 --gaussians 200 --checkpoint-every 0");
+  REQUIRE(reference.exitCode == 0);
+  CHECK(reference.output.find("the method's settings") == std::string::npos);
+  nlohmann::json r = readJson(dir / "reference/config.json");
+  CHECK(r["recipe"] == "reference");
+  CHECK(r["surface_lr"] == 5e-4);
+  CHECK(r["max_sh_degree"] == 3);
+  CHECK(r["patch"] == 0);
+
+  // resumed to a later step: the recipe is not applied again (the restarts stay those of 12 steps)
+  test::CliResult resumed = test::runCli("train --resume " + (dir / "method") + " --steps 15");
+  INFO(resumed.output);
+  REQUIRE(resumed.exitCode == 0);
+  CHECK(readJson(dir / "method/config.json")["schedule"]["gaussian_restarts"] == nlohmann::json::array({4, 6}));
+
+  test::checkOneError(test::runCli("train " + data + " -o " + (dir / "bad") + " --recipe paper"), "--recipe must be method or reference");
+  CHECK(!std::filesystem::exists(dir / "bad"));
+}
