@@ -174,6 +174,7 @@ GPU_TEST_CASE("train: --density-loss weighs the density loss, 0 switches it off,
     StepResult r = trainStep(*s);
     // The loss reported is the image loss plus weight * mean(density^2) of the Gaussians stepped.
     CHECK(r.loss - r.imageLoss == doctest::Approx(weight * squares / double(n)).epsilon(1e-4).scale(1e-7));
+    pullGaussians(*s);  // the device stepped them
     for (size_t i = 0; i < n; i++) after[weight].push_back(s->model.gaussians.at(i)[f32::kGaussLogitDensity]);
   }
   // Adam's first step moves each logit by the learning rate against the sign of its gradient.

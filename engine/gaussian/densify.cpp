@@ -17,8 +17,6 @@ bool stepCondition(uint32_t step, uint32_t from, uint32_t until, uint32_t interv
 }
 
 double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
-double logit(double p) { return std::log(p / (1.0 - p)); }
-
 float largestSigma(const float* g) {
   const float* s = g + f32::kGaussLogScale;
   return std::exp(std::max(s[0], std::max(s[1], s[2])));
@@ -78,7 +76,7 @@ DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const De
   // 0 keep, 1 pruned (low density), 2 pruned (too large), 3 split (replaced by children).
   std::vector<uint8_t> fate(n, 0);
   if (pruneDue(config, step)) {
-    const double minLogit = config.minDensity > 0 ? logit(config.minDensity) : -INFINITY;
+    const double minLogit = config.minDensity > 0 ? densityLogit(config.minDensity) : -INFINITY;
     const bool pruneLarge = step >= config.pruneLargeFromStep;
     const float largeLimit = config.pruneLargeFraction * config.sceneExtent;
     for (size_t i = 0; i < n; i++) {
@@ -137,9 +135,11 @@ DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const De
   return out;
 }
 
+double densityLogit(double density) { return std::log(density / (1.0 - density)); }
+
 void densityReset(GaussianSet& set, const DensifyConfig& config) {
   validateDensifyConfig(config);
-  const float limit = float(logit(config.resetDensity));
+  const float limit = float(densityLogit(config.resetDensity));
   for (size_t i = 0; i < set.count(); i++) {
     float& x = set.at(i)[f32::kGaussLogitDensity];
     x = std::min(x, limit);
@@ -148,19 +148,10 @@ void densityReset(GaussianSet& set, const DensifyConfig& config) {
 
 void densityDecay(GaussianSet& set, const DensifyConfig& config) {
   validateDensifyConfig(config);
-  const double f = config.decayFactor;
-  const double floorLogit = config.decayFloor > 0 ? logit(config.decayFloor) : -INFINITY;
+  const double floorLogit = config.decayFloor > 0 ? densityLogit(config.decayFloor) : -1e30;
   for (size_t i = 0; i < set.count(); i++) {
     float& x = set.at(i)[f32::kGaussLogitDensity];
-    const double xd = x;
-    double decayed = xd;  // factor 1: the identity, even for logits too large for the formula below
-    if (f != 1.0) {
-      // logit(f p), p = sigmoid(x), as log(f p) - log(1 - f p) with 1 - f p = sigmoid(-x) + (1 - f) p,
-      // so neither a large nor a very negative logit loses its value to rounding.
-      const double logP = xd >= 0 ? -std::log1p(std::exp(-xd)) : xd - std::log1p(std::exp(xd));
-      decayed = std::log(f) + logP - std::log(sigmoid(-xd) + (1.0 - f) * sigmoid(xd));
-    }
-    x = float(std::max(decayed, floorLogit));
+    x = float(f64::decayedLogit(double(x), double(config.decayFactor), floorLogit));
   }
 }
 

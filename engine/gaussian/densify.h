@@ -87,6 +87,8 @@ struct DensifyStats {
 DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const DensifyConfig& config, uint32_t step,
                      std::mt19937& rng, std::vector<uint32_t>& rowMap);
 
+// The logit a density is stored as.
+double densityLogit(double density);
 // density = min(density, config.resetDensity) for every Gaussian (on the logits).
 void densityReset(GaussianSet& set, const DensifyConfig& config);
 // density = max(density * config.decayFactor, config.decayFloor) for every Gaussian (on the logits).

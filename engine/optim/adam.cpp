@@ -14,6 +14,7 @@ struct StepPush {
   uint32_t count, offset, clearGradients;
   float beta1, beta2, epsilon, stepSize, invSqrtBc2;
   uint32_t first;
+  float invBc1, agreementPower;
 };
 constexpr uint32_t kStepGroup = 256;  // adam_step's local size
 
@@ -80,8 +81,8 @@ void cmdAdamStep(VkCommandBuffer cb, const AdamPipelines& p, AdamGroup& g, const
   g.step++;
   double lr = g.lr.at(g.step);
   double bc1 = 1.0 - std::pow(s.beta1, g.step), bc2 = 1.0 - std::pow(s.beta2, g.step);
-  StepPush push{g.count(),          offset, clearGradients ? 1u : 0u, float(s.beta1), float(s.beta2), float(s.epsilon),
-                float(lr / bc1), float(1.0 / std::sqrt(bc2)), 0};
+  StepPush push{g.count(),       offset, clearGradients ? 1u : 0u, float(s.beta1), float(s.beta2), float(s.epsilon),
+                float(lr / bc1), float(1.0 / std::sqrt(bc2)), 0,  float(1.0 / bc1), float(s.agreementPower)};
   const uint32_t whole = g.count() / kStepGroup;
   cmdBarrier(cb);
   if (whole) cmdDispatch(cb, p.step, {bind(params), bind(grads), bind(g.m), bind(g.v)}, &push, whole);

@@ -31,6 +31,9 @@ struct AdamSettings {
   double beta1 = 0.9;
   double beta2 = 0.999;
   double epsilon = 1e-15;
+  // > 0: each step scaled by (|m^| / sqrt(v^))^agreementPower, the agreement of the gradients
+  // averaged (shaders/include/adam_update.glsl adamUpdateAgreed); the device step only.
+  double agreementPower = 0;
 };
 
 struct AdamGroup {

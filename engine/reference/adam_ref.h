@@ -15,7 +15,8 @@ inline void adamStep(std::vector<double>& param, std::vector<double>& m, std::ve
     m[i] = s.beta1 * m[i] + (1.0 - s.beta1) * grad[i];
     v[i] = s.beta2 * v[i] + (1.0 - s.beta2) * grad[i] * grad[i];
     double mHat = m[i] / bc1, vHat = v[i] / bc2;
-    param[i] -= lr * mHat / (std::sqrt(vHat) + s.epsilon);
+    const double agreement = std::min(std::abs(mHat) / (std::sqrt(vHat) + s.epsilon), 1.0);
+    param[i] -= lr * mHat / (std::sqrt(vHat) + s.epsilon) * (s.agreementPower > 0 ? std::pow(agreement, s.agreementPower) : 1.0);
   }
 }
 

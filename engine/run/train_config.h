@@ -123,6 +123,12 @@ struct TrainConfig {
   // distortion it made; the sweep does not pass through the Gaussians, so they cannot make it
   // agree. 0 (the reference): no gate.
   double surfaceGate = 0;
+  // The height MLP's Adam steps scaled by (|m^| / sqrt(v^))^surfaceAgreement, how consistently
+  // the surface steps' gradients have pointed one way (shaders/include/adam_update.glsl
+  // adamUpdateAgreed). Why: views that disagree, or Gaussians that have absorbed the waves,
+  // leave the surface a gradient of noise about zero, which plain Adam still follows about the
+  // learning rate per step: the surface walks away while the loss falls. 0 (the reference): plain Adam.
+  double surfaceAgreement = 0;
   // Last-layer initial range: the reference's 0.1 starts a 64-wide MLP with height noise of
   // about +-0.3 (larger than the waves of the scenes); a small range starts nearly flat.
   double mlpInitRange = 1e-3;

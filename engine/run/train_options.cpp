@@ -369,6 +369,11 @@ std::vector<TrainOption> makeTable() {
                            "views agree clearly more through it (a plane sweep of each): waves learned upside down fit the views "
                            "nearly as well (docs/training.md)",
                            field(&TrainConfig::waterSignCheck), true));
+  t.push_back(real("surface-agreement", "surface_agreement", "P",
+                   "the height field's Adam steps scaled by (|m| / sqrt(v))^P, bias-corrected: how consistently its gradients have "
+                   "pointed one way; a gradient of noise about zero (views that disagree, Gaussians that absorbed the waves) then "
+                   "hardly moves the water, where plain Adam walks it about the learning rate per step (docs/training.md) (0: plain Adam)",
+                   field(&TrainConfig::surfaceAgreement), 0, false, 16, false));
   t.push_back(real("surface-gate", "surface_gate", "X",
                    "at each --restart-gaussians step, the learned water starts again from flat when the training views' colours agree "
                    "less through it than through flat water (a plane sweep of each: its cost above X times the flat water's); the "

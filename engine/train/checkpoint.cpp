@@ -22,6 +22,7 @@ constexpr int kKept = 2;
 CheckpointContents checkpointContents(TrainSession& s) {
   pushWaterGradient(s);  // the water's pending gradient is saved as the parameters' (heightGrad, planeGrad)
   Context& ctx = *s.model.ctx;
+  pullGaussians(s);  // the device steps them: the host's copy as of this step
   CheckpointContents c;
   c.model = waterModelName(s.model.config.model);
   c.step = int32_t(s.model.step);

@@ -173,6 +173,7 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   namespace fs = std::filesystem;
   fs::path dir(runDir);
   fs::create_directories(dir / "renders");
+  pullGaussians(s);
   writeGaussiansPly((dir / "point_cloud.ply").string(), s.model.gaussians);
   if (s.model.config.model != WaterModel::NoRefraction) {
     uint32_t n = s.model.config.gridCells + 1;

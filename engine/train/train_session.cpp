@@ -79,6 +79,28 @@ void allocateGaussianBuffers(TrainSession& s) {
   s.buffers.stats = createBuffer(*s.model.ctx, n * 2 * 4);
   s.buffers.densityPartials = createBuffer(*s.model.ctx, size_t(densityPartialCount(uint32_t(n))) * 8);
   if (!s.buffers.densityResult) s.buffers.densityResult = createBuffer(*s.model.ctx, 16);
+  if (gaussianStepsOnDevice(s.model.config))
+    s.buffers.gaussianOptimiser = createGaussianDeviceOptimiser(*s.model.ctx, uint32_t(s.model.gaussians.count()), kGaussianFloats);
+  s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;  // the host's optimiser state is the one to upload
+}
+
+bool gaussianStepsOnDevice(const TrainConfig& c) { return !c.gaussiansFixed && c.densifyStrategy != DensifyStrategy::Mcmc; }
+
+void pullGaussians(TrainSession& s) {
+  if (s.buffers.gaussianCopies != StepBuffers::Copies::DeviceNewer) return;
+  Context& ctx = *s.model.ctx;
+  s.model.gaussians.params = downloadVector<float>(ctx, s.model.device.params, s.model.gaussians.params.size());
+  downloadGaussianOptimiser(ctx, *s.buffers.gaussianOptimiser, s.state.gaussianAdam, s.state.densifyStats);
+  s.buffers.gaussianCopies = StepBuffers::Copies::Same;
+  validateGaussians(s.model.gaussians, "training");
+}
+
+void pushGaussians(TrainSession& s) {
+  if (s.buffers.gaussianCopies != StepBuffers::Copies::HostNewer) return;
+  validateGaussians(s.model.gaussians, "training");
+  updateGaussians(*s.model.ctx, s.model.device, s.model.gaussians);
+  if (s.buffers.gaussianOptimiser) uploadGaussianOptimiser(*s.model.ctx, *s.buffers.gaussianOptimiser, s.state.gaussianAdam, s.state.densifyStats);
+  s.buffers.gaussianCopies = StepBuffers::Copies::Same;
 }
 
 void ensureRayCapacity(TrainSession& s, uint32_t n) {
@@ -89,15 +111,17 @@ void ensureRayCapacity(TrainSession& s, uint32_t n) {
 }
 
 void syncGaussians(TrainSession& s, bool countChanged) {
-  validateGaussians(s.model.gaussians, "training");
   if (countChanged) {
+    validateGaussians(s.model.gaussians, "training");
     uploadModelGaussians(s.model);
     allocateGaussianBuffers(s);
+    pushGaussians(s);
     return;
   }
-  updateGaussians(*s.model.ctx, s.model.device, s.model.gaussians);
+  pushGaussians(s);  // after a host step; a device step left the device's copy current
   // Checkpoint steps reorder too, so a resumed run starts from the same proxy order.
   bool reorder = s.model.step % kProxyReorderInterval == 0 || (s.model.config.checkpointEvery > 0 && s.model.step % s.model.config.checkpointEvery == 0);
+  if (reorder) pullGaussians(s);  // the order comes from the host's boxes
   if (reorder)
     s.model.proxies = buildGaussianProxies(*s.model.ctx, s.model.tracer, s.model.device, s.model.gaussians, s.model.proxyKind, true);
   else
@@ -533,7 +557,9 @@ void surfaceStep(TrainSession& s, int t) {
   pushWaterGradient(s);
   if (s.model.height) {
     submitAndWait(ctx, [&](VkCommandBuffer cb) {
-      cmdAdamStep(cb, s.water.adamPipelines, s.water.heightAdam, s.model.height->weights, s.water.heightGrad, 0, true);
+      AdamSettings settings;
+      settings.agreementPower = s.model.config.surfaceAgreement;
+      cmdAdamStep(cb, s.water.adamPipelines, s.water.heightAdam, s.model.height->weights, s.water.heightGrad, 0, true, settings);
       cmdBarrier(cb);
       profileStage(cb, ctx, "water adam");
       s.model.height->config.encodingWindow = encodingWindowAfterStep(s.model.config, t, surfaceBatchSteps(s));
@@ -567,6 +593,11 @@ void cmdDensityLoss(VkCommandBuffer cb, TrainSession& s) {
 double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
   Context& ctx = *s.model.ctx;
   const TrainConfig& c = s.model.config;
+  if (s.buffers.gaussianOptimiser) {  // stepped in the batch's command buffer (cmdGaussianStep)
+    s.buffers.gaussianCopies = StepBuffers::Copies::DeviceNewer;
+    return c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.buffers.densityResult, 4)[0] : 0.0;
+  }
+  pullGaussians(s);
   std::vector<float> grads = downloadVector<float>(ctx, s.buffers.grads, s.model.gaussians.params.size());
   std::vector<float> stats = downloadVector<float>(ctx, s.buffers.stats, s.model.gaussians.count() * 2);
   const double densityLoss = c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.buffers.densityResult, 4)[0] : 0.0;
@@ -581,7 +612,21 @@ double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
   if (c.densify && c.densifyStrategy == DensifyStrategy::Mcmc)
     mcmcPositionNoise(s.model.gaussians, s.mcmcConfig, groupLearningRate(s.state.gaussianAdam, "position"), s.state.rng);
   applyDensitySchedule(s, t);
+  s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;
   return densityLoss;
+}
+
+// The Gaussians' step in the batch's command buffer, after the backward (gaussianStep reads
+// the density loss after it).
+void cmdGaussianDeviceStep(VkCommandBuffer cb, TrainSession& s, int t, uint32_t batchRays) {
+  GaussianStepEvents events;
+  events.decay = densityDecayDue(s.densifyConfig, uint32_t(t));
+  events.reset = densityResetDue(s.densifyConfig, uint32_t(t));
+  events.statScale = densifyStatScale(batchRays);
+  cmdBarrier(cb);
+  cmdGaussianStep(cb, *s.buffers.gaussianOptimiser, s.state.gaussianAdam, s.model.device.params, s.buffers.grads, s.buffers.stats, events,
+                  s.densifyConfig);
+  profileStage(cb, *s.model.ctx, "gaussian adam");
 }
 
 // MCMC relocation and growth when due; true when rows were added or moved (relocated rows
@@ -605,6 +650,8 @@ bool densifyStep(TrainSession& s, int t) {
   bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
   bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
   if (!cloneSplit && !prune) return false;
+  pullGaussians(s);
+  s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;  // the statistics restart, rows move
   HostStage h(*s.model.ctx, "densification (host)");
   size_t before = s.model.gaussians.count();
   std::vector<uint32_t> rowMap;
@@ -726,12 +773,14 @@ StepResult trainStep(TrainSession& s) {
   const int t = ++s.model.step;
   const StepBatch batch = nextStepBatch(s);
   const TraceOptions opt = stepTraceOptions(s, batch, t);
+  pushGaussians(s);  // what the host changed (a loaded checkpoint) before the device steps on it
   const BatchForward forward = forwardBatch(s, batch, opt, [&](VkCommandBuffer cb, const BatchContext& context) {
     vkCmdFillBuffer(cb, s.buffers.grads.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cb, s.buffers.stats.buffer, 0, VK_WHOLE_SIZE, 0);
     cmdBarrier(cb);
     cmdBackwardBatch(cb, s, context, waterLearnsAt(s, t));
     cmdDensityLoss(cb, s);
+    if (s.buffers.gaussianOptimiser) cmdGaussianDeviceStep(cb, s, t, batch.rays());
   });
   StepResult r;
   if (s.model.surface) r.missed = s.model.surface->lastCounters.missed;  // before a restart's plane sweep traces again

@@ -31,6 +31,7 @@
 #include "engine/height/height_field.h"
 #include "engine/loss/image_loss.h"
 #include "engine/gaussian/gaussian_adam.h"
+#include "engine/gaussian/gaussian_device_step.h"
 #include "engine/train/plane_sweep.h"
 #include "engine/run/train_config.h"
 #include "engine/vk/vk_profile.h"
@@ -93,6 +94,14 @@ struct StepBuffers {
   Buffer pixelWeights;    // the batch's mask (1: the pixel counts), for masked views
   Buffer densityPartials, densityResult;  // the density regulariser's partial sums and value (engine/loss/image_loss.h)
   HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
+  // The Gaussians' optimiser on the device (engine/gaussian/gaussian_device_step.h), when the
+  // run steps them there (gaussianStepsOnDevice); its moments and statistic sums are the device's
+  // copies of TrainingState's.
+  std::optional<GaussianDeviceOptimiser> gaussianOptimiser;
+  // Which copy of the Gaussians (model.gaussians, model.device) and of their optimiser's state
+  // is current: the device steps them, the host changes them (densification, a restart, a
+  // loaded checkpoint); pullGaussians and pushGaussians make the other copy the same.
+  enum class Copies { Same, DeviceNewer, HostNewer } gaussianCopies = Copies::HostNewer;
 };
 
 // --water-sign-check at a restart of this process: the step, the mirror's agreement against
@@ -213,8 +222,20 @@ BatchForward forwardBatch(TrainSession& session, const StepBatch& batch, const T
 void cmdBackwardBatch(VkCommandBuffer cb, TrainSession& session, const BatchContext& context, bool surfaceLearns);
 
 // After the host table changed (Adam, decay, reset, densification): upload it and refresh
-// the proxies (same count: rebuild in place; new count: new proxies).
+// the proxies (same count: rebuild in place; new count: new proxies); after a device step,
+// refresh the proxies only.
 void syncGaussians(TrainSession& session, bool countChanged);
+
+// Whether the run steps its Gaussians on the device (Adam, the density schedule and the
+// statistic's sums in the step's command buffer): every run but --gaussians-fixed and MCMC
+// (whose position noise draws from the host's generator every step).
+bool gaussianStepsOnDevice(const TrainConfig& config);
+// The host's copies of the Gaussians (model.gaussians), their Adam moments and statistic sums
+// (state) made current after device steps, and checked; a no-op when they are. What reads
+// them between steps calls it first: densification, a checkpoint, the run's files, a test.
+void pullGaussians(TrainSession& session);
+// The device's copies made current after the host changed them.
+void pushGaussians(TrainSession& session);
 
 // Gradient and statistics buffers for the current Gaussian count.
 void allocateGaussianBuffers(TrainSession& session);

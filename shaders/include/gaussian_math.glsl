@@ -36,6 +36,15 @@ const real kMaxProxyHalfExtent = real(1e15);
 
 SHARED_FN real sigmoidOf(real x) { return real(1) / (real(1) + exp(-x)); }
 
+// The density decay on a logit: logit(f p), p = sigmoid(x), written as
+// log f + log p - log(1 - f p) with 1 - f p = sigmoid(-x) + (1 - f) p, so neither a large nor a
+// very negative logit loses its value to rounding; then at least floorLogit (the decay's floor).
+SHARED_FN real decayedLogit(real x, real f, real floorLogit) {
+  real logP = x >= real(0) ? -log(real(1) + exp(-x)) : x - log(real(1) + exp(x));
+  real decayed = log(f) + logP - log(sigmoidOf(-x) + (real(1) - f) * sigmoidOf(x));
+  return max(f == real(1) ? x : decayed, floorLogit);  // factor 1: the identity, even where the formula overflows
+}
+
 // Rotation of a (not necessarily unit) quaternion q = (w, x, y, z).
 SHARED_FN real3x3 rotationOf(real4 q) {
   real4 u = q / length(q);

@@ -23,6 +23,8 @@ layout(push_constant) uniform Push {
   float stepSize;    // lr / (1 - beta1^t)
   float invSqrtBc2;  // 1 / sqrt(1 - beta2^t)
   uint first;        // first parameter of this dispatch
+  float invBc1;      // 1 / (1 - beta1^t)
+  float agreementPower;  // > 0: steps scaled by the gradients' agreement (adamUpdateAgreed)
 } pc;
 void store(uint i, uint k, float mi, float vi, float p) {
   m[i] = mi;
@@ -35,7 +37,10 @@ void main() {
   uint i = min(unclamped, pc.count - 1u);
   uint k = pc.offset + i;
   float mi = m[i], vi = v[i], p = param[k];
-  adamUpdate(p, mi, vi, grad[k], pc.beta1, pc.beta2, pc.epsilon, pc.stepSize, pc.invSqrtBc2);
+  if (pc.agreementPower > 0.0)
+    adamUpdateAgreed(p, mi, vi, grad[k], pc.beta1, pc.beta2, pc.epsilon, pc.stepSize, pc.invSqrtBc2, pc.invBc1, pc.agreementPower);
+  else
+    adamUpdate(p, mi, vi, grad[k], pc.beta1, pc.beta2, pc.epsilon, pc.stepSize, pc.invSqrtBc2);
   if (kGuardStores) {
     if (unclamped < pc.count) store(i, k, mi, vi, p);
   } else {
