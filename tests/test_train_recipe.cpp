@@ -147,3 +147,25 @@ TEST_CASE("recipe: refrax train records the method's choices, --recipe reference
   test::checkOneError(test::runCli("train " + data + " -o " + (dir / "bad") + " --recipe paper"), "--recipe must be method or reference");
   CHECK(!std::filesystem::exists(dir / "bad"));
 }
+
+TEST_CASE("recipe: --time-limit without --steps sizes the run to the time, and --steps given is kept" * doctest::test_suite("one-backend")) {
+  test::TrainTempDir dir;
+  const std::string data = test::tinyDataset("nerfrac-primary-sine");
+  test::CliResult timed = test::runCli("train " + data + " -o " + (dir / "timed") + " --time-limit 3 --gaussians 200 --checkpoint-every 0");
+  INFO(timed.output);
+  REQUIRE(timed.exitCode == 0);
+  const size_t at = timed.output.find("--time-limit 3: 30 probe steps took ");
+  REQUIRE(at != std::string::npos);
+  // "... ms each (N s in all): STEPS steps": config.json holds those steps, and the schedule scaled to them
+  const std::string line = timed.output.substr(at, timed.output.find('\n', at) - at);
+  const int steps = std::stoi(line.substr(line.rfind("): ") + 3));
+  const nlohmann::json c = readJson(dir / "timed/config.json");
+  CHECK(c["steps"] == steps);
+  CHECK(steps >= 100);
+  CHECK(c["schedule"]["gaussian_restarts"] == nlohmann::json::array({steps / 3, steps * 8 / 15}));
+
+  test::CliResult given = test::runCli("train " + data + " -o " + (dir / "given") + " --time-limit 3 --steps 7 --gaussians 200 --checkpoint-every 0");
+  REQUIRE(given.exitCode == 0);
+  CHECK(given.output.find("probe steps") == std::string::npos);
+  CHECK(readJson(dir / "given/config.json")["steps"] == 7);
+}

@@ -16,6 +16,7 @@
 #include "engine/io/json_io.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/model_sizing.h"
+#include "engine/train/step_probe.h"
 #include "engine/run/train_options.h"
 #include "engine/run/train_recipe.h"
 #include "engine/train/train_run.h"
@@ -60,11 +61,11 @@ TrainConfig configFromArgs(const cli::Args& a) {
 
 // The recipe's choices for this dataset and device; returns them as the line that names the
 // flags that would give them (empty: none).
-std::string applyRecipeFor(TrainConfig& c, const cli::Args& a, const Dataset& d, const DeviceCaps& caps) {
+std::string applyRecipeFor(TrainConfig& c, const cli::Args& a, const Dataset& d, const DeviceCaps& caps, bool stepsGiven = false) {
   int width = 1 << 30, height = 1 << 30;
   for (const View& v : d.split("train")) width = std::min(width, v.camera.width), height = std::min(height, v.camera.height);
   const RecipeDevice device{caps.type == VK_PHYSICAL_DEVICE_TYPE_CPU};
-  auto given = [&](const std::string& key) { return givenOnCommandLine(a, key); };
+  auto given = [&](const std::string& key) { return givenOnCommandLine(a, key) || (stepsGiven && key == "steps"); };
   const std::vector<RecipeChoice> chosen = applyRecipe(c, given, device, width, height);
   if (chosen.empty()) return "";
   std::string flags;
@@ -184,11 +185,23 @@ int runTrain(const cli::Args& args) {
   for (const std::string& note : dataset.notes) std::fprintf(stderr, "%s: %s\n", config.dataset.c_str(), note.c_str());
   keepTrainViews(dataset, config.trainViews);  // before the scene bounds: they come from the views trained on
   auto ctx = cli::openContext(args, false);  // the recipe sizes the run for the device
-  const std::string recipe = applyRecipeFor(config, args, dataset, ctx->caps);
+  const TrainConfig fromArgs = config;
+  std::string recipe = applyRecipeFor(config, args, dataset, ctx->caps);
   resolveSceneConfig(config, dataset);
+  std::string probed;
+  if (progress.timeLimitSeconds > 0 && !args.has("steps") && config.recipe == Recipe::Method) {
+    // the steps that fit the time, and the schedule sized to them (step_probe.h)
+    const StepProbe probe = probeStepsForTime(*ctx, config, dataset, progress.timeLimitSeconds);
+    probed = stepProbeLine(progress.timeLimitSeconds, probe);
+    config = fromArgs;
+    config.steps = probe.steps;
+    recipe = applyRecipeFor(config, args, dataset, ctx->caps, true);
+    resolveSceneConfig(config, dataset);
+  }
   // Everything checked: the run folder appears only now, and the log begins.
   auto folder = cli::claimOutputFolder(run, "-o", advice);  // held until the run ends
   printContextLine(*ctx);
+  if (!probed.empty()) std::fprintf(stderr, "%s\n", probed.c_str());
   if (!recipe.empty()) std::fprintf(stderr, "%s\n", recipe.c_str());
   auto session = createTrainSession(*ctx, config, std::move(dataset));
   folder->keep();
