@@ -160,7 +160,19 @@ TEST_CASE("refrax-view's baked water and mesh swaps match refrax render") {
   INFO(home.output);
   REQUIRE(home.exitCode == 0);
   CHECK(maxDifference(readPng(dir / "home.png"), readPng(dir / "baked.png")) == 0.0);
-  REQUIRE(test::runCli("render " + run + " -o " + (dir / "exact") + " --split test").exitCode == 0);
+  // --benchmark: the frame time, where it goes, and the Gaussian trace alone for the same rays
+  const test::CliResult exactRender = test::runCli("render " + run + " -o " + (dir / "exact") + " --split test --benchmark 2");
+  INFO(exactRender.output);
+  REQUIRE(exactRender.exitCode == 0);
+  CHECK(exactRender.output.find("ms per frame") != std::string::npos);
+  CHECK(exactRender.output.find("benchmark: per frame (ms): camera rays ") != std::string::npos);
+  for (const char* stage : {", water ", ", gaussians ", ", image "}) CHECK_MESSAGE(exactRender.output.find(stage) != std::string::npos, stage);
+  const size_t alone = exactRender.output.find("benchmark: the Gaussian trace alone ");
+  REQUIRE(alone != std::string::npos);
+  const std::string ratioText = exactRender.output.substr(exactRender.output.find("the frame ", alone) + 10);
+  const double ratio = std::stod(ratioText);
+  CHECK(ratio > 0.5);  // a frame holds the trace (timing noise aside)
+  CHECK(ratio < 50);
   REQUIRE(test::runCli("render " + run + " -o " + (dir / "removed") + " --split test --water remove").exitCode == 0);
   Image baked = readPng(dir / "baked.png"), exact = readPng(dir / "exact/test_000.png"), removed = readPng(dir / "removed/test_000.png");
   CHECK(fractionDiffering(baked, exact, 1.5 / 255.0) <= 0.03);

@@ -108,7 +108,7 @@ int runRender(const cli::Args& args) {
   const SwapSurface swapSurface{swap ? &*swap : nullptr, swapMesh ? &*swapMesh : nullptr};
   for (const auto& [name, cam] : cameras) {
     if (interrupted.load()) fail("render: interrupted; nothing was written to " + out);
-    RenderedView r = renderView(*model, cam, mode, swapSurface);
+    RenderedView r = renderView(*model, cam, mode, swapSurface, RenderOptions{false, nullptr});  // the image only
     writePng((fs::path(folder.path) / name).string(), r.image);
   }
   folder.commit();
@@ -116,15 +116,31 @@ int runRender(const cli::Args& args) {
   if (benchmark > 0) {
     // Every view again, `benchmark` times, after the renders above built the pipelines: the
     // frame time of a headless render (camera rays, water, Gaussians, download) on this device.
+    std::vector<std::pair<std::string, double>> stages;
     auto t0 = std::chrono::steady_clock::now();
     for (long k = 0; k < benchmark; k++) {
       if (interrupted.load()) fail("render: interrupted during --benchmark (the images in " + out + " are complete)");
-      for (const auto& [name, cam] : cameras) renderView(*model, cam, mode, swapSurface);
+      for (const auto& [name, cam] : cameras) renderView(*model, cam, mode, swapSurface, RenderOptions{false, &stages});
     }
-    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / double(benchmark * cameras.size());
+    const double frames = double(benchmark * cameras.size());
+    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / frames;
     std::printf("benchmark: %s, %dx%d, water %s, %zu views x %ld: %.2f ms per frame (%.1f FPS), %s trace\n", ctx->caps.name.c_str(),
                 cameras.front().second.width, cameras.front().second.height, water.c_str(), cameras.size(), benchmark, ms, 1000.0 / ms,
                 traceBackendName(ctx->trace));
+    std::string breakdown;
+    for (const auto& [stage, total] : stages) {
+      char part[96];
+      std::snprintf(part, sizeof part, "%s%s %.2f", breakdown.empty() ? "" : ", ", stage.c_str(), total / frames);
+      breakdown += part;
+    }
+    std::printf("benchmark: per frame (ms): %s\n", breakdown.c_str());
+    if (mode != WaterView::Swap) {
+      // The same rays through the Gaussians alone: how much of a frame is not the trace.
+      double trace = 0;
+      for (const auto& [name, cam] : cameras) trace += gaussianTraceMs(*model, cam, mode, int(benchmark));
+      trace /= double(cameras.size());
+      std::printf("benchmark: the Gaussian trace alone %.2f ms per frame; the frame %.2fx it\n", trace, ms / trace);
+    }
   }
   return 0;
 }

@@ -1,5 +1,7 @@
 #include "engine/model/render_model.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -57,13 +59,34 @@ void collectSurfacePoints(const Model& m, const std::vector<GpuRay>& rays, const
 
 }  // namespace
 
-RenderedView renderView(Model& m, const Camera& camera, WaterView water, const SwapSurface& swap) {
+namespace {
+
+// Adds the wall time since the last call to `stage` (when timing).
+struct StageClock {
+  std::vector<std::pair<std::string, double>>* stages;
+  std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
+  void lap(const char* stage) {
+    if (!stages) return;
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - last).count();
+    last = now;
+    for (auto& [name, total] : *stages)
+      if (name == stage) return void(total += ms);
+    stages->push_back({stage, ms});
+  }
+};
+
+}  // namespace
+
+RenderedView renderView(Model& m, const Camera& camera, WaterView water, const SwapSurface& swap, const RenderOptions& options) {
   Context& ctx = *m.ctx;
+  StageClock clock{options.stageMs};
   uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
   if (water == WaterView::Swap && (swap.analytic != nullptr) == (swap.mesh != nullptr))
     fail(swap.analytic ? "render: two surfaces to swap in (a closed-form one and a mesh)" : "render: no surface to swap in");
   growModelRayCapacity(m, n);
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, m.rayPipelines, camera, m.rays, 0.0f, 1e6f); });
+  clock.lap("camera rays");
   RenderedView out;
   const Buffer* traced = &m.rays;
   std::optional<WaterSurface> swapped;
@@ -82,21 +105,29 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
     // The mesh's flags (one uint per ray) go into the records buffer (room for n SurfaceRecords).
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdRefractThroughMesh(cb, *swap.mesh, m.rays, n, surfaceConfigFor(m).ior, m.refracted, m.records); });
     traced = &m.refracted;
+    clock.lap("water");
     auto flags = downloadVector<uint32_t>(ctx, m.records, n);
     for (uint32_t f : flags) out.missed += (f & kSurfaceMissed) != 0;
-    collectSurfacePoints(m, downloadVector<GpuRay>(ctx, m.rays, n), downloadVector<GpuRay>(ctx, m.refracted, n), flags, out);
+    if (options.surfacePoints)
+      collectSurfacePoints(m, downloadVector<GpuRay>(ctx, m.rays, n), downloadVector<GpuRay>(ctx, m.refracted, n), flags, out);
+    clock.lap("surface points");
   }
   if (surface) {
     traceSurface(ctx, *surface, source, m.rays, n, m.refracted, m.records);
     traced = &m.refracted;
     out.missed = surface->lastCounters.missed;
-    auto records = downloadVector<SurfaceRecord>(ctx, m.records, n);
-    std::vector<uint32_t> flags(n);
-    for (uint32_t i = 0; i < n; i++) flags[i] = surfaceRecordFlags(records[i]);
-    collectSurfacePoints(m, downloadVector<GpuRay>(ctx, m.rays, n), downloadVector<GpuRay>(ctx, m.refracted, n), flags, out);
+    clock.lap("water");
+    if (options.surfacePoints) {
+      auto records = downloadVector<SurfaceRecord>(ctx, m.records, n);
+      std::vector<uint32_t> flags(n);
+      for (uint32_t i = 0; i < n; i++) flags[i] = surfaceRecordFlags(records[i]);
+      collectSurfacePoints(m, downloadVector<GpuRay>(ctx, m.rays, n), downloadVector<GpuRay>(ctx, m.refracted, n), flags, out);
+      clock.lap("surface points");
+    }
   }
   const TraceOptions opt = viewTraceOptions(m);
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, m.tracer, m.proxies, m.device, *traced, m.results, n, opt); });
+  clock.lap("gaussians");
   auto results = downloadVector<GpuTraceResult>(ctx, m.results, n);
   out.image.width = camera.width;
   out.image.height = camera.height;
@@ -104,7 +135,20 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
   out.image.pixels.resize(size_t(n) * 3);
   for (uint32_t i = 0; i < n; i++)
     for (int ch = 0; ch < 3; ch++) out.image.pixels[3 * i + ch] = std::clamp(results[i].rgb[ch], 0.0f, 1.0f);
+  clock.lap("image");
   return out;
+}
+
+double gaussianTraceMs(Model& m, const Camera& camera, WaterView water, int repeats) {
+  Context& ctx = *m.ctx;
+  const uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  renderView(m, camera, water, SwapSurface{}, RenderOptions{false, nullptr});  // leaves the view's traced rays in place
+  const Buffer& traced = water == WaterView::Keep && m.surface ? m.refracted : m.rays;
+  const TraceOptions opt = viewTraceOptions(m);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 0; k < repeats; k++)
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, m.tracer, m.proxies, m.device, traced, m.results, n, opt); });
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / std::max(1, repeats);
 }
 
 std::vector<GpuTraceResult> traceModelRays(Model& m, const std::vector<GpuRay>& rays, WaterView water, float depthAtOpacity,

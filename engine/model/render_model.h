@@ -39,11 +39,26 @@ struct SwapSurface {
   const MeshSurface* mesh = nullptr;
 };
 
+// What a render computes beside the image, and where its time goes.
+struct RenderOptions {
+  // The water's hits (RenderedView's surfacePoints and planePoints), for the surface's metrics:
+  // three readbacks of a ray per pixel. An image alone (refrax render) leaves them out.
+  bool surfacePoints = true;
+  // When given: host wall milliseconds per stage of this render, added to ("camera rays",
+  // "water", "surface points", "gaussians", "image"), each stage waited for.
+  std::vector<std::pair<std::string, double>>* stageMs = nullptr;
+};
+
 // `swap` is used for WaterView::Swap only.
-RenderedView renderView(Model& model, const Camera& camera, WaterView water, const SwapSurface& swap);
+RenderedView renderView(Model& model, const Camera& camera, WaterView water, const SwapSurface& swap, const RenderOptions& options = {});
 inline RenderedView renderView(Model& model, const Camera& camera, WaterView water, const AnalyticHeightField* swap = nullptr) {
   return renderView(model, camera, water, SwapSurface{swap, nullptr});
 }
+
+// The Gaussian trace alone (cmdTraceForward, waited for) of `camera`'s rays as `water` leaves
+// them, mean milliseconds over `repeats`: what refrax render --benchmark compares a frame with.
+// Keep and Remove only.
+double gaussianTraceMs(Model& model, const Camera& camera, WaterView water, int repeats);
 
 // Any rays (not a camera's) through the model: refracted at the learned water first (Keep, where
 // the model has water) or straight to the Gaussians (Remove); the scene's background, its SH
