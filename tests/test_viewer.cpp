@@ -261,6 +261,25 @@ TEST_CASE("refrax-view follows a run and loads a newer checkpoint when it appear
   }
 }
 
+// --auto-resolution: a frame rate no device holds at 256 x 256 (1,000 FPS on lavapipe, or on a
+// GPU through the 20% per frame the scale may move) shrinks the render; off (the default with
+// --frames), the render keeps the window's size.
+TEST_CASE("refrax-view's automatic resolution lowers the render's size to hold a frame rate") {
+  const std::string& run = viewerRun();
+  auto fixed = runShell(viewer(run + " --size 256 --frames 12"));
+  INFO(fixed.output);
+  REQUIRE(fixed.exitCode == 0);
+  CHECK(fixed.output.find("rendered 12 frames at 256x256") != std::string::npos);
+  auto scaled = runShell(viewer(run + " --size 256 --frames 12 --auto-resolution on --target-fps 1000"));
+  INFO(scaled.output);
+  REQUIRE(scaled.exitCode == 0);
+  const size_t at = scaled.output.find("rendered 12 frames at ");
+  REQUIRE(at != std::string::npos);
+  const int width = std::stoi(scaled.output.substr(at + 22));
+  CHECK(width < 256);
+  CHECK(width >= 25);  // the scale's floor, 0.1
+}
+
 TEST_CASE("refrax-view with a missing run or a bad PLY stops with one clear error") {
   test::TrainTempDir dir;
   std::ofstream(dir / "bad.ply") << "not a ply\n";
@@ -274,6 +293,8 @@ TEST_CASE("refrax-view with a missing run or a bad PLY stops with one clear erro
                {"/no/such/run --ply /no/such.ply", "not both"},
                {"--gaussian-trace rays", "--gaussian-trace must be tiles or bvh"},
                {"--size 0", "--size must be between 1 and 8192"},
+               {"--auto-resolution maybe", "--auto-resolution must be on or off"},
+               {"--target-fps 0", "--target-fps must be between 1 and 1000"},
                {"--bogus", "unknown option --bogus for 'refrax-view'"}};
   for (const auto& c : cases) {
     // checked before any window opens: the same error with or without a display

@@ -361,6 +361,10 @@ int runViewer(const cli::Args& args) {
   v.ctx = ctx.get();
   v.scene = openScene(*ctx, o, inputs, uint32_t(K));
   v.state = initialState(o, v.scene.get(), K);
+  // Slow devices hold a usable frame rate at a lower resolution; screenshots and benchmarks
+  // keep the window's size (viewer_options.h).
+  v.state.autoResolution = o.autoResolution.value_or(ctx->caps.type == VK_PHYSICAL_DEVICE_TYPE_CPU && o.frames == 0);
+  v.state.targetFrameMs = float(1000.0 / o.targetFps);
   v.fallbackSurface = fallbackSurface(o);
   v.home = v.camera = o.home;
   createSurface(*ctx, v.window, v.sc);

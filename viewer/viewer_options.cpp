@@ -122,6 +122,16 @@ std::vector<ViewerOptionRow> viewerOptionTable() {
   });
   row("screenshot", "FILE", "with --frames: save the last render as PNG", "", [](O& o, const Args& a) { o.screenshot = a.get("screenshot"); });
   row("benchmark", "", "with --frames: print FPS and GPU ms per stage (after a warm-up)", "", [](O& o, const Args&) { o.benchmark = true; });
+  row("auto-resolution", "on|off", "scale the render's resolution each frame to hold --target-fps", "on for a CPU device in a window, off with --frames",
+      [](O& o, const Args& a) {
+        const std::string v = a.get("auto-resolution");
+        if (v != "on" && v != "off") fail("--auto-resolution must be on or off, got " + v);
+        o.autoResolution = v == "on";
+      });
+  row("target-fps", "FPS", "the frame rate --auto-resolution holds", shown(d.targetFps), [](O& o, const Args& a) {
+    o.targetFps = a.getDouble("target-fps", o.targetFps);
+    if (!(o.targetFps >= 1 && o.targetFps <= 1000)) fail("--target-fps must be between 1 and 1000");
+  });
   row("min-seconds", "S", "with --frames: keep rendering until S seconds after the first frame (e.g. to see a training run's next checkpoint)",
       shown(d.minSeconds), [](O& o, const Args& a) {
         o.minSeconds = a.getDouble("min-seconds", 0.0);

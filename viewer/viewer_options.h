@@ -47,6 +47,11 @@ struct ViewerOptions {
   std::string screenshot;
   bool benchmark = false;
   double minSeconds = 0;
+  // The render's resolution scaled each frame to hold targetFps (the image stretched to the
+  // window). Empty: on for a CPU device (lavapipe) in an interactive window, off otherwise and
+  // with --frames (screenshots and benchmarks keep the window's size).
+  std::optional<bool> autoResolution;
+  double targetFps = 10;
 };
 
 // The flags with their help and shown defaults, for cli::Command.
