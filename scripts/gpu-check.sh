@@ -161,8 +161,15 @@ run $((limit + 300)) train "$REFRAX" train "$data" -o "$out/run" --recipe refere
 if [ -f "$out/run/metrics.json" ]; then
   # the profile line ("profile: N steps, X ms per step (median ...)") and the summary line (test psnr ...)
   note "training (nerfrac-primary-sine, full size, whole 392^2 images, the reference settings): $(grep -m 1 '^profile:' "$out/train.log"); $(grep -m 1 '^test psnr' "$out/train.log")"
+  # issue 48's figures: the host's share of a step and the submits per step (goal: <= 10%, <= 2)
+  note "training host share: $(python3 -c 'import json, sys; p = json.load(open(sys.argv[1]))["profile"]; print("%.1f of %.1f ms per step (%.0f%%), %.2f submits per step" % (p["host_ms_per_step"], p["wall_ms_per_step"], 100 * p["host_ms_per_step"] / p["wall_ms_per_step"], p["submits_per_step"]))' "$out/run/metrics.json" 2>/dev/null || echo unknown)"
   run 300 render "$REFRAX" render "$out/run" --split test -o "$out/renders" --benchmark 20
-  note "render: $(grep -m 1 '^benchmark:' "$out/render.log" || echo 'FAILED (render.log)')"
+  # the frame, where it goes, and the Gaussian trace alone for the same rays (goal: the frame <= 1.3x it)
+  if grep -q '^benchmark:' "$out/render.log"; then
+    while IFS= read -r line; do note "render: $line"; done < <(grep '^benchmark:' "$out/render.log")
+  else
+    note "render: FAILED (render.log)"
+  fi
 else
   note "training: FAILED (train.log)"
 fi
