@@ -22,29 +22,24 @@ cmake --build build -j"$(nproc)"
 
 OUT="${REFRAX_DEMO_DIR:-demo-out}"
 STEPS="${REFRAX_DEMO_STEPS:-1500}"
-GAUSSIANS="${REFRAX_DEMO_GAUSSIANS:-2000}"
-PATCH="${REFRAX_DEMO_PATCH:-32}"
+SEED="${REFRAX_DEMO_SEED:-1}"
 rm -rf "$OUT"
 mkdir -p "$OUT"
 ./build/refrax synth nerfrac-primary-sine --size tiny -o "$OUT/data"
-COMMON=(--steps "$STEPS" --gaussians "$GAUSSIANS" --max-gaussians $((2 * GAUSSIANS)) --patch "$PATCH" --density-reset-every 0
-        --sh-degree 0 --progress-every 100 --checkpoint-every 500)
-# The refraction model with the presets table's method (bench/presets.sh refraction-sweep, docs/training.md):
-# the fast surface settings, the level prior, Gaussians drawn at a plane sweep's depth (afresh
-# at a third and a half of the run) and one surface step per pass over the 8 training views.
-REFRACTION=(--mlp-coarse-octaves 3 --octaves-open-until 100000000 --surface-lr 3e-3 --surface-freeze $((STEPS * 2 / 15))
-            --anchor-mean-height --level-prior 1000 --init-depth sweep --restart-gaussians $((STEPS / 3)),$((STEPS * 8 / 15))
-            --surface-batch views)
+# refrax train's defaults: no method flags (the method, sized for this device and the data;
+# docs/training.md "The defaults"), a step count that suits 64 px images, and the two
+# comparison models on the same defaults.
+COMMON=(--steps "$STEPS" --seed "$SEED" --progress-every 100 --checkpoint-every 500)
 for model in refraction flat-water no-refraction; do
-  flag=("${REFRACTION[@]}"); [ "$model" = refraction ] || flag=(--"$model")
+  flag=(); [ "$model" = refraction ] || flag=(--"$model")
   # stdout of train is its one-line summary (progress goes to stderr)
-  echo "$model: $(./build/refrax train "$OUT/data" -o "$OUT/$model" "${flag[@]}" "${COMMON[@]}")" >>"$OUT/summary.txt"
+  echo "$model: $(./build/refrax train "$OUT/data" -o "$OUT/$model" ${flag[@]+"${flag[@]}"} "${COMMON[@]}" 2> >(tee "$OUT/$model.log" >&2))" >>"$OUT/summary.txt"
 done
 ./build/refrax render "$OUT/refraction" --split test --water keep -o "$OUT/renders/keep"
 ./build/refrax render "$OUT/refraction" --split test --water remove -o "$OUT/renders/removed"
 ./build/refrax eval "$OUT/refraction" -o "$OUT/refraction/eval.json"
 echo
-echo "== tiny nerfrac-primary-sine, $STEPS steps, $GAUSSIANS Gaussians (metrics.json in each run folder)"
+echo "== tiny nerfrac-primary-sine, refrax train's defaults at $STEPS steps, seed $SEED (metrics.json and config.json in each run folder)"
 cat "$OUT/summary.txt"
 if [ $record = 1 ]; then
   rec=bench/results/demo
@@ -60,7 +55,7 @@ if [ $record = 1 ]; then
     echo "date=$(date -u '+%Y-%m-%d %H:%M UTC')"
     echo "device=$(./build/refrax devices 2>/dev/null | grep -m1 '^\[' | sed 's/^\[[0-9]*\] //; s/, Vulkan.*//')"
     echo "cores=$(nproc)"
-    echo "settings=tiny nerfrac-primary-sine, $STEPS steps of ${PATCH}x$PATCH patches, $GAUSSIANS Gaussians (cap $((2 * GAUSSIANS))); refraction: ${REFRACTION[*]}"
+    echo "settings=tiny nerfrac-primary-sine, refrax train's defaults at $STEPS steps, seed $SEED: $(grep -m 1 "^the method's settings" "$OUT/refraction.log" 2>/dev/null || echo 'see refraction/config.json')"
     echo "code=$code"
   } > "$rec/run_info.txt"
   ./build/refrax report "$OUT/refraction" "$OUT/flat-water" "$OUT/no-refraction" -o "$rec/runs.csv" >/dev/null

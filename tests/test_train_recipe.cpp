@@ -37,13 +37,14 @@ TEST_CASE("recipe: the method sizes the run for the device and fills the water's
   CHECK(cpu.maxShDegree == 0);
   CHECK(cpu.schedule.densityResetInterval == 0);
   CHECK(cpu.initDepth == InitDepth::Sweep);
-  CHECK(cpu.surfaceLearningRate == 3e-3);
+  CHECK(cpu.surfaceLearningRate == 1e-3);
   CHECK(cpu.surfaceBatch == 0);  // views
   CHECK(cpu.schedule.surfaceFreeze == 533);
   CHECK(cpu.schedule.gaussianRestarts == std::vector<int>{1333, 2133});
   CHECK(cpu.mlpCoarseOctaves == 3);
   CHECK(cpu.anchorMeanHeight);
-  CHECK(cpu.levelPrior == 1000);
+  CHECK(cpu.levelPrior == 10000);
+  CHECK(cpu.surfaceSmoothness == 0.1);
 
   TrainConfig gpu = methodConfig();
   applyRecipe(gpu, givenKeys({}), RecipeDevice{false}, 252, 252);
@@ -94,6 +95,7 @@ TEST_CASE("recipe: the comparison models take the Gaussians' settings, not the w
   applyRecipe(flat, givenKeys({}), RecipeDevice{true}, 252, 252);
   CHECK(flat.schedule.gaussianRestarts == std::vector<int>{1333, 2133});
   CHECK(flat.levelPrior == 0);
+  CHECK(flat.surfaceSmoothness == 0);
 
   TrainConfig fromPly = methodConfig();  // Gaussians read from a file take no depth; fixed ones no restarts
   fromPly.gaussiansFrom = "/x.ply";
@@ -121,7 +123,7 @@ TEST_CASE("recipe: refrax train records the method's choices, --recipe reference
   nlohmann::json c = readJson(dir / "method/config.json");
   CHECK(c["recipe"] == "method");
   CHECK(c["steps"] == 12);              // given
-  CHECK(c["surface_lr"] == 3e-3);       // the recipe's
+  CHECK(c["surface_lr"] == 1e-3);       // the recipe's
   CHECK(c["anchor_mean_height"] == true);
   CHECK(c["schedule"]["gaussian_restarts"] == nlohmann::json::array({4, 6}));
   // the device decides the batch: lavapipe is a CPU (patches), a GPU trains whole images

@@ -243,8 +243,9 @@ std::vector<TrainOption> makeTable() {
     r.shownDefault = "method";
     t.push_back(r);
   }
-  t.push_back(required(resumable(integer<int>("steps", "steps", "N", "training steps (one training image or patch each)", field(&TrainConfig::steps),
-                                                1, 10000000))));
+  t.push_back(shown(required(resumable(integer<int>("steps", "steps", "N", "training steps (one training image or patch each)",
+                                                      field(&TrainConfig::steps), 1, 10000000))),
+                    "15000 on a GPU, 4000 on a CPU; with --time-limit, what fits it; reference 15000"));
   t.push_back(required(integer<uint64_t>("seed", "seed", "S", "random seed (initial Gaussians, height field, view order, patches)",
                                          field(&TrainConfig::seed), 0, LLONG_MAX)));
   t.push_back(shown(required(integer<uint32_t>("gaussians", "initial_gaussians", "N", "initial Gaussians, uniform in the box derived under the water",
@@ -254,6 +255,7 @@ std::vector<TrainOption> makeTable() {
                      "the initial (and restarted) Gaussians' depth: box (uniform in the box, the reference) or sweep (a plane sweep of the "
                      "training views through the current water; docs/training.md)",
                      field(&TrainConfig::initDepth), {{"box", InitDepth::Box}, {"sweep", InitDepth::Sweep}}));
+  t.back().shownDefault = "sweep; reference box";
   t.push_back(switchOption("init-points", "init_points",
                            "the initial (and restarted) Gaussians at the dataset's sparse points under the water (COLMAP's points3D, moved "
                            "down to their true depth through the flat water; points above it dropped), at most --gaussians of them; the "
@@ -272,8 +274,9 @@ std::vector<TrainOption> makeTable() {
                     "from the data: the initial count (at least --gaussians)"));
   t.push_back(required(real("initial-density", "initial_density", "X", "initial Gaussian density", field(&TrainConfig::initialDensity), 0,
                             true, 1, true)));
-  t.push_back(required(integer<uint32_t>("sh-degree", "max_sh_degree", "D", "highest SH degree (reached one degree per --sh-interval steps)",
-                                         field(&TrainConfig::maxShDegree), 0, 3)));
+  t.push_back(shown(required(integer<uint32_t>("sh-degree", "max_sh_degree", "D", "highest SH degree (reached one degree per --sh-interval steps)",
+                                               field(&TrainConfig::maxShDegree), 0, 3)),
+                    "0; reference 3"));
   t.push_back(required(integer<uint32_t>("k-buffer", "k_buffer", "K", "tracer k-buffer size", field(&TrainConfig::kBuffer), 1, 64)));
   t.push_back(integer<uint32_t>("hit-records", "hit_records", "N",
                                 "hits per ray the forward records so the backward need not re-trace (8 bytes each; 0: re-trace)",
@@ -289,13 +292,13 @@ std::vector<TrainOption> makeTable() {
                                       "coarse-to-fine: octaves open while the surface is frozen, the rest open gradually until "
                                       "--octaves-open-until (>= O: all from the start)",
                                       field(&TrainConfig::mlpCoarseOctaves), 0, 16),
-                    "O"));
+                    "3; reference O"));
   t.push_back(required(real("mlp-init-range", "mlp_init_range", "X", "height-field last layer initialised in +-X (reference 0.1)",
                             field(&TrainConfig::mlpInitRange), 0, false, inf, false)));
   t.push_back(shown(real("surface-lr", "surface_lr", "X",
                          "surface learning rate at step 0 (MLP weights, or the flat height), decaying to X/100 (reference 5e-4)",
                          field(&TrainConfig::surfaceLearningRate), 0, true, 1, true),
-                    "5e-4"));
+                    "1e-3; reference 5e-4"));
   t.push_back(shown(required(integer<uint32_t>("grid-cells", "grid_cells", "N", "water-surface proxy mesh cells per side",
                                          field(&TrainConfig::gridCells), 1, 4096)), "from the data: 2^octaves"));
   t.push_back(shown(required(integer<uint32_t>("subdivision", "subdivision_levels", "K", "recursive subdivision levels of the surface trace",
@@ -313,9 +316,10 @@ std::vector<TrainOption> makeTable() {
     };
     t.push_back(v);
   }
-  t.push_back(required(integer<uint32_t>("patch", "patch", "P",
-                                         "train on one random P x P patch per step (0: whole images); ~P^2/(w h) of the time per step",
-                                         field(&TrainConfig::patch), 0, 16384)));
+  t.push_back(shown(required(integer<uint32_t>("patch", "patch", "P",
+                                               "train on one random P x P patch per step (0: whole images); ~P^2/(w h) of the time per step",
+                                               field(&TrainConfig::patch), 0, 16384)),
+                    "0 on a GPU, 32 on a CPU (images of 64 px and more); reference 0"));
   t.push_back(required(real("density-decay", "density_decay", "X", "density multiplier every --density-decay-every steps",
                             field(&TrainConfig::densityDecay), 0, true, 1, false)));
   t.push_back(real("density-loss", "density_loss", "X",
@@ -336,10 +340,11 @@ std::vector<TrainOption> makeTable() {
       else setCount(c, v, name);
     };
     b.parse = [](const std::string& text, const std::string& name) { return text == "views" ? json("views") : parseInteger(text, name); };
+    b.shownDefault = "views; reference 1";
     t.push_back(b);
   }
   t.push_back(step("surface-freeze", "surface_freeze", "surface frozen for the first N steps", &ScheduleSteps::surfaceFreeze,
-                   "1000 x steps/15000"));
+                   "2 x steps/15; reference 1000 x steps/15000"));
   {
     // Not scaled with --steps, and absent from runs written before it: 0, the reference.
     TrainOption o = step("surface-until", "surface_until",
@@ -355,14 +360,16 @@ std::vector<TrainOption> makeTable() {
                    "weight of a slope prior on the water, X mean((h_a - h_b) / spacing)^2 over the coarse grid's edges: damps a fast "
                    "surface's runaway (0.1 left 2 of 9 tiny presets running away, 4 without; docs/training.md)",
                    field(&TrainConfig::surfaceSmoothness), 0, false, inf, false));
+  t.back().shownDefault = "0.1; reference 0";
   t.push_back(real("level-prior", "level_prior", "X",
                    "weight of a prior holding the seen water level: X times the mean square of its tilt and bowl (the {x, y, x^2, xy, "
                    "y^2} part of a least-squares fit, each vertex weighted by the training views that see it): straight-down views "
                    "barely see them (docs/training.md)",
                    field(&TrainConfig::levelPrior), 0, false, inf, false));
+  t.back().shownDefault = "10000; reference 0";
   t.push_back(switchOption("anchor-mean-height", "anchor_mean_height",
                            "keep the learned water's mean height (each vertex weighted by the training views that see it) at the given "
-                           "water height: straight-down views barely see a uniform shift",
+                           "water height: straight-down views barely see a uniform shift (on with the method's recipe, the default)",
                            field(&TrainConfig::anchorMeanHeight), true));
   t.push_back(switchOption("water-sign-check", "water_sign_check",
                            "at each --restart-gaussians step, keep the learned water's mirror image about the water height when the "
@@ -382,14 +389,14 @@ std::vector<TrainOption> makeTable() {
   {
     TrainOption o = step("octaves-open-until", "octaves_open_until",
                          "every encoding octave open from step N (the window opens linearly from --surface-freeze)",
-                         &ScheduleSteps::octavesOpenUntil, "7500 x steps/15000");
+                         &ScheduleSteps::octavesOpenUntil, "never (the coarse octaves only); reference 7500 x steps/15000");
     o.required = false;  // runs written before the option: 0 (every octave open)
     t.push_back(o);
   }
   t.push_back(step("sh-interval", "sh_degree_interval", "SH degree +1 every N steps", &ScheduleSteps::shDegreeInterval, "1000 x steps/15000"));
   t.push_back(step("density-reset-every", "density_reset_interval",
                    "density reset to <= 0.01 every N steps (part of densification: only when it runs)",
-                   &ScheduleSteps::densityResetInterval, "max(1000, 3000 x steps/15000)"));
+                   &ScheduleSteps::densityResetInterval, "0 (never); reference max(1000, 3000 x steps/15000)"));
   t.push_back(step("density-reset-until", "density_reset_until", "no density reset from step N", &ScheduleSteps::densityResetUntil,
                    "12000 x steps/15000"));
   t.push_back(step("density-decay-every", "density_decay_interval", "density decay every N steps", &ScheduleSteps::densityDecayInterval, "50"));
@@ -416,7 +423,7 @@ std::vector<TrainOption> makeTable() {
                         "draw the Gaussians afresh after each step N (as at step 0, with fresh Adam state and schedules), the surface "
                         "kept: the first Gaussians absorb the distortion of the still-flat water, and fresh ones let it grow toward the "
                         "true amplitude; with --init-depth sweep each restart looks through a better surface (docs/training.md) (0: never)");
-    r.shownDefault = "0";
+    r.shownDefault = "a third and 8/15 of the steps where the water learns; reference 0";
     r.get = [](const TrainConfig& c) { return json(c.schedule.gaussianRestarts); };
     r.set = [](TrainConfig& c, const json& v, const std::string& name) {
       if (!v.is_array()) fail(name + " must be a list of steps, got " + v.dump());
