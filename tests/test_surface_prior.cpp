@@ -130,6 +130,16 @@ TEST_CASE("level prior: a quadratic surface is all tilt and bowl (E = lambda x i
     const double e = levelPrior(wave, g, w, 1.0, nullptr);
     CHECK(e > 0);
     CHECK(e < 0.2 * weightedVariance(wave, w));
+    // The tilt alone: a plane is all tilt, a bowl only its part along {x, y}.
+    std::vector<float> plane(n, 0.0f), bowl(n, 0.0f);
+    for (uint32_t j = 0; j <= g.cellsY; j++)
+      for (uint32_t i = 0; i <= g.cellsX; i++) {
+        double x = i * g.spacingX - 0.4, y = j * g.spacingY + 0.3;
+        plane[g.first + j * g.rowLength + i] = float(c[0] + c[1] * x + c[2] * y);
+        bowl[g.first + j * g.rowLength + i] = float(c[3] * x * x + c[4] * x * y + c[5] * y * y);
+      }
+    CHECK(levelPrior(plane, g, w, lambda, nullptr, false) == doctest::Approx(lambda * weightedVariance(plane, w)).epsilon(1e-6));
+    CHECK(levelPrior(bowl, g, w, lambda, nullptr, false) < levelPrior(bowl, g, w, lambda, nullptr, true) - 1e-9);
   }
 }
 

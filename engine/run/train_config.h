@@ -148,6 +148,9 @@ struct TrainConfig {
   // Weight of the level prior (engine/surface/surface_prior.h: the seen water's tilt and bowl) added
   // to the loss while the height field learns; 0 (the reference): none.
   double levelPrior = 0;
+  // The level prior on the tilt alone, not the bowl: a wave longer than the seen water projects
+  // onto the bowl, which the prior then holds flat (surface_prior.h).
+  bool levelPriorTiltOnly = false;
   uint32_t gridCells = 64, subdivisionLevels = 2;
 
   // Schedule and its resolved values.

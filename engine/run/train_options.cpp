@@ -367,6 +367,10 @@ std::vector<TrainOption> makeTable() {
                    "barely see them (docs/training.md)",
                    field(&TrainConfig::levelPrior), 0, false, inf, false));
   t.back().shownDefault = "10000; reference 0";
+  t.push_back(switchOption("level-prior-tilt-only", "level_prior_tilt_only",
+                           "the level prior on the seen water's tilt alone ({x, y}), not its bowl: a wave longer than the seen water is "
+                           "partly a bowl, which the full prior holds flat (docs/training.md)",
+                           field(&TrainConfig::levelPriorTiltOnly), true));
   t.push_back(switchOption("anchor-mean-height", "anchor_mean_height",
                            "keep the learned water's mean height (each vertex weighted by the training views that see it) at the given "
                            "water height: straight-down views barely see a uniform shift (on with the method's recipe, the default)",

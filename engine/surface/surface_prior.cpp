@@ -46,7 +46,7 @@ double slopePrior(const std::vector<float>& heights, const GridLayout& g, double
 }
 
 double levelPrior(const std::vector<float>& heights, const GridLayout& g, const std::vector<double>& weights, double lambda,
-                  std::vector<float>* grad) {
+                  std::vector<float>* grad, bool bowl) {
   checkGridFits(heights, g, grad, "levelPrior");
   if (weights.size() != heights.size()) fail("levelPrior: the weights are not sized like the heights");
   // The seen vertices, their weights and positions (in cells: the span of the basis does not
@@ -75,7 +75,7 @@ double levelPrior(const std::vector<float>& heights, const GridLayout& g, const 
   // The basis {1, x, y, x^2, xy, y^2} made orthonormal in the weighted mean (modified
   // Gram-Schmidt); then E = lambda x the sum of the squared coefficients past the constant.
   std::vector<std::vector<double>> q;
-  for (int m = 0; m < 6; m++) {
+  for (int m = 0; m < (bowl ? 6 : 3); m++) {
     std::vector<double> b(n);
     for (size_t k = 0; k < n; k++) {
       const std::array<double, 6> monomial{1.0, x[k], y[k], x[k] * x[k], x[k] * y[k], y[k] * y[k]};

@@ -38,7 +38,8 @@ double slopePrior(const std::vector<float>& heights, const GridLayout& grid, dou
 // --anchor-mean-height holds the constant; this holds the next two orders. Returns E and, when
 // grad is not null, adds dE/dheight to it (0 where the weight is 0 and outside the grid).
 // Directions the weights cannot tell apart (a seen region on one line has no y) are left out.
+// bowl = false: the tilt alone ({1, x, y}), which leaves a long wave's curvature to the views.
 double levelPrior(const std::vector<float>& heights, const GridLayout& grid, const std::vector<double>& weights, double lambda,
-                  std::vector<float>* grad);
+                  std::vector<float>* grad, bool bowl = true);
 
 }  // namespace refrax
