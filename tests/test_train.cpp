@@ -156,6 +156,10 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
     CHECK(p["gpu"].contains("gaussian adam"));  // the Gaussians step on the device (gaussian_device_step.h)
     const nlohmann::json& plain = c.plain["profile"]["gpu"];
     CHECK(plain.contains("gaussian forward"));
+    // Straight rays: one submission a step (forward, backward, the Gaussians' Adam and their
+    // proxies' refit), but at the steps where the host densifies or reorders the proxies.
+    CHECK(c.plain["profile"]["submits_per_step"].get<double>() < 1.2);
+    CHECK(plain.contains("gaussian proxies"));
     for (auto& [stage, ms] : plain.items()) CHECK_MESSAGE(stage.rfind("water", 0) != 0, stage);  // no water in straight rays
 
     TrainTempDir dir;

@@ -110,6 +110,11 @@ void ensureRayCapacity(TrainSession& s, uint32_t n) {
   if (n > s.buffers.capacity) allocateBatchBuffers(s, n);
 }
 
+// Checkpoint steps reorder too, so a resumed run starts from the same proxy order.
+bool proxyReorderAt(const TrainSession& s, int t) {
+  return t % kProxyReorderInterval == 0 || (s.model.config.checkpointEvery > 0 && t % s.model.config.checkpointEvery == 0);
+}
+
 void syncGaussians(TrainSession& s, bool countChanged) {
   if (countChanged) {
     validateGaussians(s.model.gaussians, "training");
@@ -119,8 +124,7 @@ void syncGaussians(TrainSession& s, bool countChanged) {
     return;
   }
   pushGaussians(s);  // after a host step; a device step left the device's copy current
-  // Checkpoint steps reorder too, so a resumed run starts from the same proxy order.
-  bool reorder = s.model.step % kProxyReorderInterval == 0 || (s.model.config.checkpointEvery > 0 && s.model.step % s.model.config.checkpointEvery == 0);
+  const bool reorder = proxyReorderAt(s, s.model.step);
   if (reorder) pullGaussians(s);  // the order comes from the host's boxes
   if (reorder)
     s.model.proxies = buildGaussianProxies(*s.model.ctx, s.model.tracer, s.model.device, s.model.gaussians, s.model.proxyKind, true);
@@ -643,6 +647,16 @@ bool mcmcStep(TrainSession& s, int t) {
 
 // Clone/split/prune when due (3DGS strategy), or MCMC's relocation and growth; true when the
 // table's rows changed.
+// Whether the host changes the Gaussians after step t (densification, a restart) or rebuilds
+// their proxies in a new order: otherwise the step's command buffer refits the proxies itself.
+bool hostGaussianEventAt(const TrainSession& s, int t) {
+  const TrainConfig& c = s.model.config;
+  const std::vector<int>& restarts = c.schedule.gaussianRestarts;
+  const bool densify = c.densify && ((c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t))) ||
+                                     (c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t))));
+  return densify || std::find(restarts.begin(), restarts.end(), t) != restarts.end() || proxyReorderAt(s, t);
+}
+
 bool densifyStep(TrainSession& s, int t) {
   const TrainConfig& c = s.model.config;
   if (c.gaussiansFixed) return false;
@@ -774,6 +788,9 @@ StepResult trainStep(TrainSession& s) {
   const StepBatch batch = nextStepBatch(s);
   const TraceOptions opt = stepTraceOptions(s, batch, t);
   pushGaussians(s);  // what the host changed (a loaded checkpoint) before the device steps on it
+  // A device step with nothing for the host to change after it refits the proxies in its own
+  // command buffer: one submission fewer (issue 48).
+  const bool proxiesInBatch = s.buffers.gaussianOptimiser.has_value() && !hostGaussianEventAt(s, t);
   const BatchForward forward = forwardBatch(s, batch, opt, [&](VkCommandBuffer cb, const BatchContext& context) {
     vkCmdFillBuffer(cb, s.buffers.grads.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cb, s.buffers.stats.buffer, 0, VK_WHOLE_SIZE, 0);
@@ -781,6 +798,11 @@ StepResult trainStep(TrainSession& s) {
     cmdBackwardBatch(cb, s, context, waterLearnsAt(s, t));
     cmdDensityLoss(cb, s);
     if (s.buffers.gaussianOptimiser) cmdGaussianDeviceStep(cb, s, t, batch.rays());
+    if (proxiesInBatch) {
+      cmdBarrier(cb);
+      cmdUpdateGaussianProxies(cb, s.model.tracer, s.model.proxies, s.model.device, false);
+      profileStage(cb, *s.model.ctx, "gaussian proxies");
+    }
   });
   StepResult r;
   if (s.model.surface) r.missed = s.model.surface->lastCounters.missed;  // before a restart's plane sweep traces again
@@ -796,7 +818,7 @@ StepResult trainStep(TrainSession& s) {
   r.restarted = restartStep(s, t);
   {
     HostStage h(*s.model.ctx, "gaussian upload and proxies");
-    syncGaussians(s, countChanged || r.restarted);
+    if (!proxiesInBatch) syncGaussians(s, countChanged || r.restarted);
   }
   r.imageLoss = forward.imageLoss;
   r.loss = r.imageLoss + densityLoss + priorEnergy;
