@@ -169,6 +169,18 @@ nlohmann::json readEvaluations(const std::string& runDir, int upToStep) {
   return kept;
 }
 
+namespace {
+
+// A JSON array of one object per item.
+template <class T, class Row>
+nlohmann::json jsonRows(const std::vector<T>& items, const Row& row) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const T& item : items) rows.push_back(row(item));
+  return rows;
+}
+
+}  // namespace
+
 nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   namespace fs = std::filesystem;
   fs::path dir(runDir);
@@ -212,22 +224,18 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
       }
     }
   }
-  if (!s.log.signChecks.empty()) {
-    nlohmann::json checks = nlohmann::json::array();
-    for (const WaterSignCheck& c : s.log.signChecks)
-      checks.push_back({{"step", c.step}, {"learned_sweep_cost", c.agreement.reference}, {"mirror_sweep_cost", c.agreement.cost},
-                        {"cells", c.agreement.cells}, {"flat_ratio", c.flat.reference > 0 ? c.flat.cost / c.flat.reference : 0.0},
-                        {"mirrored", c.mirrored}});
-    m["water_sign_checks"] = checks;  // this process's (a resumed run's start at its checkpoint)
-  }
-  if (!s.log.gateChecks.empty()) {
-    nlohmann::json checks = nlohmann::json::array();
-    for (const SurfaceGateCheck& c : s.log.gateChecks)
-      checks.push_back({{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
-                        {"cells", c.agreement.cells}, {"ratio", c.agreement.reference > 0 ? c.agreement.cost / c.agreement.reference : 0.0},
-                        {"reset", c.reset}});
-    m["surface_gate_checks"] = checks;  // this process's (a resumed run's start at its checkpoint)
-  }
+  // the restarts' checks of this process (a resumed run's start at its checkpoint)
+  auto ratio = [](const SweepAgreement& a) { return a.reference > 0 ? a.cost / a.reference : 0.0; };
+  if (!s.log.signChecks.empty())
+    m["water_sign_checks"] = jsonRows(s.log.signChecks, [&](const WaterSignCheck& c) -> nlohmann::json {
+      return {{"step", c.step}, {"learned_sweep_cost", c.agreement.reference}, {"mirror_sweep_cost", c.agreement.cost},
+              {"cells", c.agreement.cells}, {"flat_ratio", ratio(c.flat)}, {"mirrored", c.mirrored}};
+    });
+  if (!s.log.gateChecks.empty())
+    m["surface_gate_checks"] = jsonRows(s.log.gateChecks, [&](const SurfaceGateCheck& c) -> nlohmann::json {
+      return {{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
+              {"cells", c.agreement.cells}, {"ratio", ratio(c.agreement)}, {"reset", c.reset}};
+    });
   if (!s.log.surfaceWatch.empty()) {
     m["surface_watch"] = surfaceWatchJson(s.log.surfaceWatch);
     const RougheningVerdict verdict = judgeRoughening(s.log.surfaceWatch, s.model.config.schedule.surfaceFreeze + 1);
