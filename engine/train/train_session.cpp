@@ -416,7 +416,7 @@ TraceOptions stepTraceOptions(TrainSession& s, const StepBatch& b, int t) {
 }
 
 BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOptions& opt,
-                          const std::function<void(VkCommandBuffer, const BatchContext&)>& then) {
+                          const std::function<void(VkCommandBuffer, const BatchContext&)>& then, bool readRendered) {
   Context& ctx = *s.model.ctx;
   const View& view = s.dataset.split("train")[b.view];
   const Camera& cam = view.camera;
@@ -479,7 +479,7 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
       gaussiansAndLoss(cb);
     });
   }
-  f.rendered = downloadVector<float>(ctx, s.buffers.rendered, size_t(n) * 3);
+  if (readRendered) f.rendered = downloadVector<float>(ctx, s.buffers.rendered, size_t(n) * 3);
   f.imageLoss = downloadVector<float>(ctx, s.buffers.lossResult, 4)[0];
   return f;
 }
@@ -788,6 +788,8 @@ StepResult trainStep(TrainSession& s) {
   const StepBatch batch = nextStepBatch(s);
   const TraceOptions opt = stepTraceOptions(s, batch, t);
   pushGaussians(s);  // what the host changed (a loaded checkpoint) before the device steps on it
+  // The batch's PSNR is read back for the progress line only (StepResult::psnr).
+  const bool progressDue = t % s.model.config.progressEvery == 0 || t == s.model.config.steps;
   // A device step with nothing for the host to change after it refits the proxies in its own
   // command buffer: one submission fewer (issue 48).
   const bool proxiesInBatch = s.buffers.gaussianOptimiser.has_value() && !hostGaussianEventAt(s, t);
@@ -803,7 +805,7 @@ StepResult trainStep(TrainSession& s) {
       cmdUpdateGaussianProxies(cb, s.model.tracer, s.model.proxies, s.model.device, false);
       profileStage(cb, *s.model.ctx, "gaussian proxies");
     }
-  });
+  }, progressDue);
   StepResult r;
   if (s.model.surface) r.missed = s.model.surface->lastCounters.missed;  // before a restart's plane sweep traces again
   double priorEnergy = 0;  // of the surface this step traced
@@ -822,7 +824,7 @@ StepResult trainStep(TrainSession& s) {
   }
   r.imageLoss = forward.imageLoss;
   r.loss = r.imageLoss + densityLoss + priorEnergy;
-  r.psnr = batchPsnr(forward.rendered, forward.target, forward.weight);
+  r.psnr = progressDue ? batchPsnr(forward.rendered, forward.target, forward.weight) : NAN;
   r.gaussians = uint32_t(s.model.gaussians.count());
   if (!std::isfinite(r.loss)) fail("training diverged at step " + std::to_string(t) + ": the loss is not finite");
   s.model.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -46,7 +46,7 @@ struct Context;
 struct StepResult {
   double loss = 0;        // image loss + density regulariser
   double imageLoss = 0;
-  double psnr = 0;        // of the rendered batch against its target
+  double psnr = 0;        // of the rendered batch against its target, at the progress line's steps (NaN at the others)
   uint32_t gaussians = 0;
   uint32_t missed = 0;    // rays that missed the surface domain
   bool restarted = false; // the Gaussians were drawn afresh after this step (--restart-gaussians)
@@ -206,15 +206,16 @@ struct BatchContext {
 };
 struct BatchForward {
   double imageLoss = 0;  // 0.8 L1 + 0.2 (1 - SSIM) of the batch
-  std::vector<float> rendered, target;  // rgb per ray (times the mask for a masked view)
+  std::vector<float> rendered, target;  // rgb per ray (times the mask for a masked view); rendered only when asked
   std::vector<float> weight;            // per ray: the view's mask (1: counts); empty: every ray counts
   BatchContext context;                 // what cmdBackwardBatch takes
 };
 // Camera rays -> water (unless --no-refraction) -> Gaussians -> image loss, at the session's
 // current parameters. `then` records more work (the backward, given the batch's context) into
-// the same submission, after the loss.
+// the same submission, after the loss. readRendered: the rendered batch read back (a ray's rgb,
+// 12 bytes a ray: 5.5 MB for a whole 392 px image) for the progress line's PSNR.
 BatchForward forwardBatch(TrainSession& session, const StepBatch& batch, const TraceOptions& options,
-                          const std::function<void(VkCommandBuffer, const BatchContext&)>& then = {});
+                          const std::function<void(VkCommandBuffer, const BatchContext&)>& then = {}, bool readRendered = false);
 // Records the backward of the forward that returned `context`: per-Gaussian gradients into
 // session.buffers.grads (and statistics), per-ray dL/d(ray) and, when the surface learns, dL/d(height)
 // at the surface's lattice points (pushed into the parameters by pushWaterGradient).
