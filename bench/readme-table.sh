@@ -6,18 +6,22 @@
 # it into readme-table.md (medians over the seeds, with their spread), which the README quotes.
 # The tiny images are 64 px: the runs take --steps 1500 (the defaults' schedule scaled to it).
 # 81 runs, about an hour on a 2-core lavapipe machine.
-# Usage: bench/readme-table.sh [--out DIR] [--seeds "1 2 3"] [--steps N]
+# Usage: bench/readme-table.sh [--out DIR] [--seeds "1 2 3"] [--steps N] [--resume]
+#   --resume  keep the rows an interrupted invocation left in DIR/rows.csv (same seeds and steps)
+#             and train only the runs it lacks
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=bench/results/readme-table
 seeds="1 2 3"
 steps=1500
+resume=0
 while [ $# -gt 0 ]; do
   case $1 in
     --out) out=$2; shift ;;
     --seeds) seeds=$2; shift ;;
     --steps) steps=$2; shift ;;
-    *) echo "readme-table.sh: unknown option $1 (--out DIR, --seeds LIST, --steps N)" >&2; exit 2 ;;
+    --resume) resume=1 ;;
+    *) echo "readme-table.sh: unknown option $1 (--out DIR, --seeds LIST, --steps N, --resume)" >&2; exit 2 ;;
   esac
   shift
 done
@@ -29,16 +33,30 @@ commit=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- engine shaders tr
 presets="nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown"
 mkdir -p "$out"
 work=$out/work
-rm -rf "$work" "$out/rows.csv"
+if [ $resume = 1 ] && [ -f "$out/rows.csv" ]; then
+  # the interrupted invocation's settings, checked against these
+  if [ "$(cat "$out/settings.txt" 2>/dev/null)" != "seeds=$seeds steps=$steps" ]; then
+    echo "readme-table.sh: --resume: $out/rows.csv comes from other settings ($(cat "$out/settings.txt" 2>/dev/null || echo not recorded)), not seeds=$seeds steps=$steps" >&2
+    exit 2
+  fi
+  commit="$commit (resumed; earlier rows: $(cat "$out/commit.txt" 2>/dev/null || echo unrecorded))"
+else
+  rm -rf "$work" "$out/rows.csv"
+  echo "seeds=$seeds steps=$steps" >"$out/settings.txt"
+  echo "$commit" >"$out/commit.txt"
+fi
 mkdir -p "$work/data" "$work/runs"
 start=$(date +%s)
 for preset in $presets; do
-  "$REFRAX" synth "$preset" --size tiny -o "$work/data/$preset" >/dev/null
+  [ -f "$work/data/$preset/transforms_train.json" ] || "$REFRAX" synth "$preset" --size tiny -o "$work/data/$preset" >/dev/null
   for seed in $seeds; do
     for model in method flat-water no-refraction; do
+      # a run an interrupted invocation finished (its row is in rows.csv)
+      if [ $resume = 1 ] && grep -q "^$preset-$model-$seed," "$out/rows.csv" 2>/dev/null; then continue; fi
       flag=()
       [ $model = method ] || flag=(--$model)
       run=$work/runs/$preset-$model-$seed
+      rm -rf "$run" "$run.log"  # what an interrupted invocation left half-trained
       "$REFRAX" train "$work/data/$preset" -o "$run" --steps "$steps" --seed "$seed" ${flag[@]+"${flag[@]}"} --checkpoint-every 0 \
         --progress-every 100000 >"$run.log" 2>&1 || { echo "readme-table: $preset $model seed $seed failed: $(tail -n 1 "$run.log")" >&2; exit 1; }
       append=()
@@ -55,5 +73,5 @@ printf 'commit=%s\ndevice=%s\nseeds=%s\nsteps=%s\nseconds=%d\ndate=%s\n' "$commi
   python3 bench/readme-table.py "$out/rows.csv" "$work/data"
 } > "$out/readme-table.md.tmp"
 mv "$out/readme-table.md.tmp" "$out/readme-table.md"
-rm -rf "$work"
+rm -rf "$work" "$out/settings.txt" "$out/commit.txt"
 cat "$out/readme-table.md"
