@@ -645,24 +645,34 @@ bool mcmcStep(TrainSession& s, int t) {
   return s.log.lastMcmc.after != s.log.lastMcmc.before || s.log.lastMcmc.relocated > 0;
 }
 
-// Clone/split/prune when due (3DGS strategy), or MCMC's relocation and growth; true when the
-// table's rows changed.
+// The schedule's events after step t, one test each for the step that acts on it and for
+// hostGaussianEventAt.
+bool cloneSplitAt(const TrainSession& s, int t) {
+  const TrainConfig& c = s.model.config;
+  return c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
+}
+bool pruneAt(const TrainSession& s, int t) {
+  const TrainConfig& c = s.model.config;
+  return c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
+}
+bool restartAt(const TrainSession& s, int t) {
+  const std::vector<int>& restarts = s.model.config.schedule.gaussianRestarts;
+  return std::find(restarts.begin(), restarts.end(), t) != restarts.end();
+}
+
 // Whether the host changes the Gaussians after step t (densification, a restart) or rebuilds
 // their proxies in a new order: otherwise the step's command buffer refits the proxies itself.
 bool hostGaussianEventAt(const TrainSession& s, int t) {
-  const TrainConfig& c = s.model.config;
-  const std::vector<int>& restarts = c.schedule.gaussianRestarts;
-  const bool densify = c.densify && ((c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t))) ||
-                                     (c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t))));
-  return densify || std::find(restarts.begin(), restarts.end(), t) != restarts.end() || proxyReorderAt(s, t);
+  return cloneSplitAt(s, t) || pruneAt(s, t) || restartAt(s, t) || proxyReorderAt(s, t);
 }
 
+// Clone/split/prune when due (3DGS strategy), or MCMC's relocation and growth; true when the
+// table's rows changed.
 bool densifyStep(TrainSession& s, int t) {
   const TrainConfig& c = s.model.config;
   if (c.gaussiansFixed) return false;
   if (c.densifyStrategy == DensifyStrategy::Mcmc) return c.densify && c.schedule.densifyInterval > 0 && mcmcStep(s, t);
-  bool cloneSplit = c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
-  bool prune = c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
+  const bool cloneSplit = cloneSplitAt(s, t), prune = pruneAt(s, t);
   if (!cloneSplit && !prune) return false;
   pullGaussians(s);
   s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;  // the statistics restart, rows move
@@ -725,8 +735,7 @@ void gateWater(TrainSession& s, int t) {
 
 // The Gaussians drawn afresh when the step is one of --restart-gaussians; true if so.
 bool restartStep(TrainSession& s, int t) {
-  const std::vector<int>& restarts = s.model.config.schedule.gaussianRestarts;
-  if (std::find(restarts.begin(), restarts.end(), t) == restarts.end()) return false;
+  if (!restartAt(s, t)) return false;
   HostStage h(*s.model.ctx, "restart and plane sweep");
   if (s.model.config.surfaceGate > 0 && s.model.height && waterLearnsAt(s, t)) gateWater(s, t);
   if (s.model.config.waterSignCheck && s.model.height && waterLearnsAt(s, t)) checkWaterSign(s, t);
