@@ -26,6 +26,8 @@
 #                            [--baseline DIR] [--keep-work] [--smoke]
 #   --set      dev (default) or eval
 #   --scenes N the set's first N scenes (default 12); --seeds S training seeds 1..S (default 2)
+#   --scene-list "A B ..."  these scenes of the set instead (dev: 1-1000, eval: 1001 on), e.g.
+#              the dev scenes where the oracle leads straight rays, to choose among candidates
 #   --steps N  every model trains N steps (default: refrax train's own default, what a user gets)
 #   --jobs N   trainings at a time (default 1; a GPU machine takes several)
 #   --method-flags "FLAGS"  a candidate default: the method trains with these flags added (the
@@ -56,6 +58,7 @@ set -euo pipefail
 set_name=dev
 scenes=12
 seeds=2
+scene_list_arg=""
 steps=""
 jobs=1
 method_flags=""
@@ -70,6 +73,7 @@ while [ $# -gt 0 ]; do
   case $1 in
     --set) [ $# -ge 2 ] && { [ "$2" = dev ] || [ "$2" = eval ]; } || { echo "generalise: --set needs dev or eval" >&2; exit 2; }; set_name=$2; shift ;;
     --scenes) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --scenes needs a count" >&2; exit 2; }; scenes=$2; shift ;;
+    --scene-list) [ $# -ge 2 ] && [[ $2 =~ ^[0-9\ ]*[1-9][0-9\ ]*$ ]] || { echo "generalise: --scene-list needs scene numbers, quoted as one argument" >&2; exit 2; }; scene_list_arg=$2; shift ;;
     --seeds) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --seeds needs a count" >&2; exit 2; }; seeds=$2; shift ;;
     --steps) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --steps needs a step count" >&2; exit 2; }; steps=$2; shift ;;
     --jobs) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --jobs needs a count" >&2; exit 2; }; jobs=$2; shift ;;
@@ -95,6 +99,13 @@ if [ $smoke = 1 ]; then scenes=1 seeds=1 steps=20 dataset_size=tiny; fi
 first=1
 [ "$set_name" = eval ] && first=1001
 scene_list=$(seq "$first" $((first + scenes - 1)))
+if [ -n "$scene_list_arg" ] && [ $smoke = 0 ]; then
+  scene_list=$(echo $scene_list_arg)
+  for scene in $scene_list; do
+    { [ "$set_name" = eval ] && [ "$scene" -ge 1001 ]; } || { [ "$set_name" = dev ] && [ "$scene" -le 1000 ]; } ||
+      { echo "generalise: --scene-list: scene $scene is not in the $set_name set (dev: 1-1000, eval: 1001 on)" >&2; exit 2; }
+  done
+fi
 seed_list=$(seq 1 "$seeds")
 all_models=(method no-refraction flat-water dry-control known-water)
 models=("${all_models[@]}")
