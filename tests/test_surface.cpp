@@ -11,6 +11,7 @@
 #include "engine/reference/height_field_ref.h"
 #include "engine/reference/surface_ref.h"
 #include "engine/surface/surface_math.h"
+#include "engine/vk/vk_profile.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_test_util.h"
 
@@ -231,6 +232,71 @@ GPU_TEST_CASE("subdivision tracing on the MLP surface: exact intersection and in
   CHECK(zerr.back() <= bound + 2e-6);
   CHECK(unbracketed < rays.size() / 100);
   CHECK(fallback < rays.size() * 15 / 100);  // kinks make the MLP surface miss children more often than smooth waves
+}
+
+GPU_TEST_CASE("the trace is one submission where the heights can run on a count the device wrote, and the same as K + 2") {
+  // Each level's new lattice points are counted, gathered, evaluated and scattered on the device
+  // (indirect dispatches); a source without evaluateQueued has the counts read back between K + 2
+  // submissions. Both must give bitwise the same rays, records and cache, on an empty cache and on
+  // one a first trace filled (the second trace's range starts after it).
+  HeightFieldConfig hc;
+  hc.width = 32;
+  hc.hiddenLayers = 3;
+  hc.octaves = 2;
+  hc.lastLayerInitRange = 0.05f;
+  HeightField hf = createHeightField(ctx, hc, rng());
+  WaterSurfaceConfig cfg;
+  cfg.gridCells = 16;
+  cfg.subdivisionLevels = 2;
+  cfg.maxRays = 3000;
+  // the generated fused kernel, and the loop-based one (groups of another size)
+  for (bool generic : {false, true}) {
+    hf.forceGenericForward = generic;
+    const std::string kernel = hf.forwardKernelName();
+    CAPTURE(kernel);
+    WaterSurface one = createWaterSurface(ctx, cfg), readBack = createWaterSurface(ctx, cfg);
+    const HeightSource queued = heightSource(hf);
+    HeightSource counted = queued;
+    counted.evaluateQueued = nullptr;
+    REQUIRE(traceIsOneSubmission(one, queued, cfg.maxRays));
+    REQUIRE_FALSE(traceIsOneSubmission(readBack, counted, cfg.maxRays));
+    test::updateSurface(ctx, one, queued);
+    test::updateSurface(ctx, readBack, counted);
+    GpuProfiler profiler;
+    for (int pass = 0; pass < 2; pass++) {
+      const std::vector<GpuRay> rays = test::raysFromAbove(rng, cfg.maxRays, 0.95f);
+      const uint32_t n = uint32_t(rays.size());
+      Buffer in = createBufferFrom(ctx, rays);
+      Buffer outA = createBuffer(ctx, n * sizeof(GpuRay)), outB = createBuffer(ctx, n * sizeof(GpuRay));
+      Buffer recA = createBuffer(ctx, n * sizeof(SurfaceRecord)), recB = createBuffer(ctx, n * sizeof(SurfaceRecord));
+      attachProfiler(ctx, profiler);
+      const uint64_t before = profiler.submits;
+      traceSurface(ctx, one, queued, in, n, outA, recA);
+      const uint64_t oneSubmits = profiler.submits - before;
+      traceSurface(ctx, readBack, counted, in, n, outB, recB);
+      const uint64_t readBackSubmits = profiler.submits - before - oneSubmits;
+      detachProfiler(ctx);
+      CAPTURE(pass);
+      CHECK(oneSubmits == 1);
+      CHECK(readBackSubmits >= cfg.subdivisionLevels + 2);
+      const auto a = downloadVector<GpuRay>(ctx, outA, n), b = downloadVector<GpuRay>(ctx, outB, n);
+      const auto ra = downloadVector<SurfaceRecord>(ctx, recA, n), rb = downloadVector<SurfaceRecord>(ctx, recB, n);
+      CHECK(std::memcmp(a.data(), b.data(), n * sizeof(GpuRay)) == 0);
+      CHECK(std::memcmp(ra.data(), rb.data(), n * sizeof(SurfaceRecord)) == 0);
+      REQUIRE(one.lastCounters.points == readBack.lastCounters.points);
+      CHECK(one.lastCounters.points > 0);
+      CHECK(one.cachedPoints == readBack.cachedPoints);
+      // the cache as (point, height) pairs: the points' order is the atomics' and may differ
+      auto cache = [&](WaterSurface& ws) {
+        const auto xy = downloadVector<float>(ctx, ws.points, size_t(ws.cachedPoints) * 2);
+        const auto h = downloadVector<float>(ctx, ws.pointHeights, ws.cachedPoints);
+        std::map<std::pair<float, float>, float> m;
+        for (size_t k = 0; k < h.size(); k++) m[{xy[2 * k], xy[2 * k + 1]}] = h[k];
+        return m;
+      };
+      CHECK(cache(one) == cache(readBack));
+    }
+  }
 }
 
 GPU_TEST_CASE("a shared vertex gets bitwise-identical normals from every triangle") {

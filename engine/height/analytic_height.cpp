@@ -31,24 +31,39 @@ AnalyticHeightField createAnalyticHeightField(Context& ctx, const AnalyticWaves&
   return f;
 }
 
+namespace {
+struct AnalyticPush {  // analytic_heights.comp's push constants
+  float waves[4][4];
+  float sigmas[4];
+  float base;
+  uint32_t count;
+};
+static_assert(sizeof(AnalyticPush) == 88, "analytic_heights.comp's push constants");
+
+AnalyticPush analyticPush(const AnalyticHeightField& field, uint32_t count) {
+  AnalyticPush push{};
+  for (int k = 0; k < 4; k++)
+    for (int c = 0; c < 4; c++) push.waves[k][c] = field.waves.waves[k][c];
+  for (int k = 0; k < 4; k++) push.sigmas[k] = field.waves.sigma[k];
+  push.base = field.waves.base;
+  push.count = count;
+  return push;
+}
+}  // namespace
+
 HeightSource heightSource(const AnalyticHeightField& field) {
   HeightSource s;
   s.evaluate = [&field](VkCommandBuffer cb, const Buffer& points, uint32_t count, Buffer& heights) {
     if (count == 0) return;
-    struct {
-      float waves[4][4];
-      float sigmas[4];
-      float base;
-      uint32_t count;
-    } push{};
-    static_assert(sizeof(push) == 88, "analytic_heights.comp's push constants");
-    for (int k = 0; k < 4; k++)
-      for (int c = 0; c < 4; c++) push.waves[k][c] = field.waves.waves[k][c];
-    for (int k = 0; k < 4; k++) push.sigmas[k] = field.waves.sigma[k];
-    push.base = field.waves.base;
-    push.count = count;
+    const AnalyticPush push = analyticPush(field, count);
     cmdDispatch(cb, field.pipeline, {bind(points), bind(heights)}, &push, groupsFor(count, 64));
   };
+  s.evaluateQueued = [&field](VkCommandBuffer cb, const Buffer& points, Buffer& heights, const Buffer& args, VkDeviceSize offset,
+                              uint32_t bound) {
+    const AnalyticPush push = analyticPush(field, bound);
+    cmdDispatchIndirect(cb, field.pipeline, {bind(points), bind(heights)}, &push, args, offset);
+  };
+  s.queuedGroup = 64;
   return s;
 }
 

@@ -85,6 +85,16 @@ void cmdEvaluateHeights(VkCommandBuffer cb, const HeightField& hf, const Buffer&
   cmdHeightForward(cb, hf, push, points, count, heights);
 }
 
+uint32_t heightsQueuedGroup(const HeightField& hf) { return hf.ctx && hf.pipelines ? heightQueuedGroup(hf) : 0; }
+
+void cmdEvaluateHeightsQueued(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, const Buffer& heights, const Buffer& args,
+                              VkDeviceSize argsOffset, uint32_t bound) {
+  if (!hf.ctx || !hf.pipelines) fail("cmdEvaluateHeightsQueued: the height field was not created");
+  requireBytes(points, uint64_t(bound) * 8, "points", "cmdEvaluateHeightsQueued");
+  requireBytes(heights, uint64_t(bound) * 4, "heights", "cmdEvaluateHeightsQueued");
+  cmdHeightForwardQueued(cb, hf, basePush(hf), points, heights, args, argsOffset, bound);
+}
+
 void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, const Buffer& dLossdHeight,
                                   uint32_t count, const Buffer& dLossdWeights) {
   if (!hf.ctx || !hf.pipelines) fail("cmdAccumulateHeightGradients: the height field was not created");

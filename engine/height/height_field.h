@@ -87,6 +87,11 @@ struct HeightField {
 HeightField createHeightField(Context& ctx, const HeightFieldConfig& config, uint32_t seed);
 // heights[i] = H(points[i]); points: float2 (x, y) world coordinates; heights: float
 void cmdEvaluateHeights(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, uint32_t count, const Buffer& heights);
+// The same for the points [0, n) of a count the device wrote (HeightSource::evaluateQueued);
+// heightsQueuedGroup is 0 where the field's forward form cannot run so.
+uint32_t heightsQueuedGroup(const HeightField& hf);
+void cmdEvaluateHeightsQueued(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, const Buffer& heights, const Buffer& args,
+                              VkDeviceSize argsOffset, uint32_t bound);
 // dLossdWeights[j] += sum_i dLossdHeight[i] * dH(points[i])/dweight_j   (accumulates, never overwrites)
 void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, const Buffer& dLossdHeight,
                                   uint32_t count, const Buffer& dLossdWeights);

@@ -37,6 +37,13 @@ std::string heightForwardKernelName(const HeightField& hf);
 void cmdHeightForward(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, uint32_t count,
                       const Buffer& heights);
 
+// The forward over points [0, n) for an n the device wrote: one indirect dispatch whose group
+// counts lie at args + offset, in groups of heightQueuedGroup(hf) points; push.count = bound
+// (>= n) keeps the last group's spare lanes inside the buffers. Not for the layered form.
+uint32_t heightQueuedGroup(const HeightField& hf);  // 0: the current form cannot
+void cmdHeightForwardQueued(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, const Buffer& heights,
+                            const Buffer& args, VkDeviceSize offset, uint32_t bound);
+
 // The octave count of the generated kernels that serve a network of c.octaves (c.octaves
 // itself where none is embedded at or above it): see "padded kernels" in height_field.h.
 uint32_t heightKernelOctaves(const HeightFieldConfig& c);

@@ -154,4 +154,29 @@ void cmdHeightForward(VkCommandBuffer cb, const HeightField& hf, HeightPush push
   }
 }
 
+uint32_t heightQueuedGroup(const HeightField& hf) {
+  switch (forwardForm(hf)) {
+    case ForwardForm::Fused: return kHeightKernelGroup;
+    case ForwardForm::Layered: return 0;  // its chunks are counted on the host
+    default: return 64;
+  }
+}
+
+void cmdHeightForwardQueued(VkCommandBuffer cb, const HeightField& hf, HeightPush push, const Buffer& points, const Buffer& heights,
+                            const Buffer& args, VkDeviceSize offset, uint32_t bound) {
+  push.first = 0;
+  push.count = bound;
+  switch (forwardForm(hf)) {
+    case ForwardForm::Fused: {
+      const ComputePipeline& p = fusedPipeline(hf);
+      const Buffer& weights = cmdKernelWeights(cb, hf);
+      cmdDispatchIndirect(cb, p, {bind(weights), bind(points), bind(heights)}, &push, args, offset);
+      break;
+    }
+    case ForwardForm::Layered: fail("the layered height forward cannot run on a count the device wrote");
+    default:
+      cmdDispatchIndirect(cb, heightGenericForwardPipeline(hf), {bind(hf.weights), bind(points), bind(heights)}, &push, args, offset);
+  }
+}
+
 }  // namespace refrax

@@ -15,6 +15,14 @@ struct Buffer;
 struct HeightSource {
   // heights[k] = H(points[k]) for k < count (points: float2, heights: float).
   std::function<void(VkCommandBuffer, const Buffer& points, uint32_t count, Buffer& heights)> evaluate;
+  // The same for a count only the device knows when the commands run: heights[k] = H(points[k])
+  // for k < n, dispatched with the group counts at args + argsOffset (a VkDispatchIndirectCommand
+  // the caller wrote for groups of queuedGroup points: ceil(n / queuedGroup)). bound >= n is
+  // what the caller's buffers hold; lanes past n in the last group may write heights up to it.
+  // Empty for a source that cannot (the layered MLP forms): the caller reads n back instead.
+  std::function<void(VkCommandBuffer, const Buffer& points, Buffer& heights, const Buffer& args, VkDeviceSize argsOffset, uint32_t bound)>
+      evaluateQueued;
+  uint32_t queuedGroup = 0;
   // Adds sum_k dLoss/dheight[k] * dH(points[k])/dparams to the source's gradient; empty
   // for sources without parameters.
   std::function<void(VkCommandBuffer, const Buffer& points, const Buffer& dLossdHeight, uint32_t count)> accumulateGradients;

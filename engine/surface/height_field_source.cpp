@@ -9,6 +9,10 @@ HeightSource heightSource(const HeightField& hf) {
   s.evaluate = [&hf](VkCommandBuffer cb, const Buffer& points, uint32_t count, Buffer& heights) {
     if (count) cmdEvaluateHeights(cb, hf, points, count, heights);
   };
+  s.queuedGroup = heightsQueuedGroup(hf);
+  if (s.queuedGroup)
+    s.evaluateQueued = [&hf](VkCommandBuffer cb, const Buffer& points, Buffer& heights, const Buffer& args, VkDeviceSize offset,
+                             uint32_t bound) { cmdEvaluateHeightsQueued(cb, hf, points, heights, args, offset, bound); };
   return s;
 }
 

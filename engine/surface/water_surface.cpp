@@ -35,6 +35,22 @@ static_assert(sizeof(SurfacePush) == 64, "SurfacePush must match the GLSL push b
 constexpr uint32_t kOptionFaceNormals = 1u;
 constexpr uint32_t kOptionHitNormals = 2u;
 constexpr uint32_t kCounterCount = 8;
+// surface_point_range.comp's output: the range, then two VkDispatchIndirectCommands.
+constexpr uint32_t kPointRangeWords = 12;
+constexpr VkDeviceSize kMoveGroupsOffset = 16, kHeightGroupsOffset = 32;
+
+SurfaceCounters countersFrom(const uint32_t* c) {
+  SurfaceCounters s;
+  s.points = c[0];
+  s.missed = c[1];
+  s.invalid = c[2];
+  s.fallback = c[3];
+  s.nonFiniteGradients = c[4];
+  s.lookupFailures = c[5];
+  s.degenerate = c[6];
+  s.backFacing = c[7];
+  return s;
+}
 
 // Points one ray can ask for: 3 edge midpoints per level, then its finest triangle's 3
 // corners with their 6 neighbours each.
@@ -119,6 +135,8 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   ws.evalPoints = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 8);
   ws.evalHeights = createBuffer(ctx, VkDeviceSize(ws.pointCapacity) * 4);
   ws.counters = createBuffer(ctx, kCounterCount * 4);
+  ws.countersReadback = createBuffer(ctx, kCounterCount * 4, 0, MemoryUse::Readback);
+  ws.pointRange = createBuffer(ctx, kPointRangeWords * 4, kIndirectArgs);
   ws.pushPoints = createBuffer(ctx, (VkDeviceSize(ws.gridPointCount) + ws.pointCapacity) * 8);
   ws.pushGrads = createBuffer(ctx, (VkDeviceSize(ws.gridPointCount) + ws.pointCapacity) * 4);
   ws.pushCount = createBuffer(ctx, 4);
@@ -141,6 +159,8 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   ws.floatAtomics = ctx.caps.floatAtomicAdd && !forceCasAtomics;
   p.backward = createComputePipeline(ctx, ws.floatAtomics ? "surface_backward" : "surface_backward_cas", {B, B, B, B, B, B, B, B, B}, push);
   p.compact = createComputePipeline(ctx, "surface_compact_gradients", {B, B, B, B, B}, 4);
+  p.pointRange = createComputePipeline(ctx, "surface_point_range", {B, B}, 8);
+  p.pointMove = createComputePipeline(ctx, "surface_point_move", {B, B, B, B, B}, 4);
 
   SurfacePush pc = basePush(ws);
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
@@ -259,6 +279,25 @@ void evaluateNewPoints(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t base, u
   cmdBarrier(cb);
 }
 
+// The same for the points queued since the last call, counted on the device: their range
+// (surface_point_range.comp), gathered into evalPoints, H by an indirect dispatch, and
+// scattered into pointHeights. bound: the most points one level can queue.
+void evaluateQueuedPoints(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t bound) {
+  WaterSurface& ws = t.ws;
+  const uint32_t rangePush[2] = {t.heights.queuedGroup, ws.pointCapacity};
+  cmdDispatch(cb, ws.pipelines.pointRange, {bind(ws.counters), bind(ws.pointRange)}, rangePush, 1);
+  cmdBarrier(cb);
+  const uint32_t gather = 0, scatter = 1;
+  cmdDispatchIndirect(cb, ws.pipelines.pointMove, {bind(ws.pointRange), bind(ws.points), bind(ws.evalPoints), bind(ws.evalHeights), bind(ws.pointHeights)},
+                      &gather, ws.pointRange, kMoveGroupsOffset);
+  cmdBarrier(cb);
+  t.heights.evaluateQueued(cb, ws.evalPoints, ws.evalHeights, ws.pointRange, kHeightGroupsOffset, bound);
+  cmdBarrier(cb);
+  cmdDispatchIndirect(cb, ws.pipelines.pointMove, {bind(ws.pointRange), bind(ws.points), bind(ws.evalPoints), bind(ws.evalHeights), bind(ws.pointHeights)},
+                      &scatter, ws.pointRange, kMoveGroupsOffset);
+  cmdBarrier(cb);
+}
+
 uint32_t readPointCount(SurfaceTracePass& t) {
   uint32_t n = 0;
   download(t.ctx, t.ws.counters, &n, 4);
@@ -291,12 +330,14 @@ void recordGlobalTrace(SurfaceTracePass& t, VkCommandBuffer cb, bool emptyCache,
   }
 }
 
+using EvaluateStep = std::function<void(VkCommandBuffer)>;
+
 // Level k of the subdivision: the heights of its new points, the test against its triangles,
 // and the points the next level (or, at the last, the normals) needs.
-void recordSubdivisionLevel(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t k, uint32_t evaluated, uint32_t queued) {
+void recordSubdivisionLevel(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t k, const EvaluateStep& evaluate) {
   WaterSurface& ws = t.ws;
   const std::string level = "level " + std::to_string(k);
-  evaluateNewPoints(t, cb, evaluated, queued);
+  evaluate(cb);
   stampPass(t, cb, level + " heights");
   SurfacePush q = t.pc;
   q.level = int32_t(k);
@@ -315,10 +356,10 @@ void recordSubdivisionLevel(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t k,
 }
 
 // The normals' heights and the refraction at each hit.
-void recordRefraction(SurfaceTracePass& t, VkCommandBuffer cb, uint32_t evaluated, uint32_t queued, Buffer& refractedRays,
+void recordRefraction(SurfaceTracePass& t, VkCommandBuffer cb, const EvaluateStep& evaluate, Buffer& refractedRays,
                       const SurfaceTraceHooks& hooks) {
   WaterSurface& ws = t.ws;
-  evaluateNewPoints(t, cb, evaluated, queued);
+  evaluate(cb);
   stampPass(t, cb, "normal heights");
   cmdDispatch(cb, ws.pipelines.refract,
               {bind(t.rays), bind(t.records), bind(ws.gridHeights), bind(ws.latticeIndex), bind(ws.pointHeights), bind(refractedRays),
@@ -362,20 +403,52 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
     timings->clear();
     t.timings = timings;
     t.timer = std::make_unique<GpuTimer>();
-    createTimer(ctx, *t.timer, 16);
+    createTimer(ctx, *t.timer, 8 + 3 * ws.config.subdivisionLevels);  // every stamp of a one-submission trace
   }
   const uint32_t K = ws.config.subdivisionLevels;
+  if (traceIsOneSubmission(ws, heights, count)) {
+    const uint32_t bound = uint32_t(std::min<uint64_t>(ws.pointCapacity, uint64_t(count) * insertsPerRay(K)));
+    const EvaluateStep evaluate = [&](VkCommandBuffer cb) { evaluateQueuedPoints(t, cb, bound); };
+    submitPass(t, [&](VkCommandBuffer cb) {
+      const uint32_t evaluated = emptyCache ? 0u : ws.cachedPoints;  // the range starts after the cache
+      vkCmdUpdateBuffer(cb, ws.pointRange.buffer, 0, 4, &evaluated);
+      recordGlobalTrace(t, cb, emptyCache, hooks);
+      for (uint32_t k = 1; k <= K; k++) recordSubdivisionLevel(t, cb, k, evaluate);
+      recordRefraction(t, cb, evaluate, refractedRays, hooks);
+      // the counters where the host reads them after the wait, with no submission of their own
+      cmdBarrier(cb);
+      VkBufferCopy c{0, 0, kCounterCount * 4};
+      vkCmdCopyBuffer(cb, ws.counters.buffer, ws.countersReadback.buffer, 1, &c);
+    });
+    ws.lastCounters = countersFrom(static_cast<const uint32_t*>(ws.countersReadback.mapped));
+    if (ws.lastCounters.points > ws.pointCapacity)
+      fail("water surface: lattice point table overflow (" + std::to_string(ws.lastCounters.points) + " points)");
+    ws.cachedPoints = ws.lastCounters.points;
+    return;
+  }
   submitPass(t, [&](VkCommandBuffer cb) { recordGlobalTrace(t, cb, emptyCache, hooks); });
   uint32_t evaluated = ws.cachedPoints;
   for (uint32_t k = 1; k <= K; k++) {
     uint32_t queued = readPointCount(t);
-    submitPass(t, [&](VkCommandBuffer cb) { recordSubdivisionLevel(t, cb, k, evaluated, queued); });
+    submitPass(t, [&](VkCommandBuffer cb) {
+      recordSubdivisionLevel(t, cb, k, [&, evaluated, queued](VkCommandBuffer c) { evaluateNewPoints(t, c, evaluated, queued); });
+    });
     evaluated = queued;
   }
   uint32_t queued = K > 0 ? readPointCount(t) : 0;
-  submitPass(t, [&](VkCommandBuffer cb) { recordRefraction(t, cb, evaluated, queued, refractedRays, hooks); });
+  submitPass(t, [&](VkCommandBuffer cb) {
+    recordRefraction(t, cb, [&, evaluated, queued](VkCommandBuffer c) { evaluateNewPoints(t, c, evaluated, queued); }, refractedRays, hooks);
+  });
   ws.lastCounters = readSurfaceCounters(ctx, ws);
   ws.cachedPoints = ws.lastCounters.points;
+}
+
+bool traceIsOneSubmission(const WaterSurface& ws, const HeightSource& heights, uint32_t rays) {
+  const uint32_t K = ws.config.subdivisionLevels;
+  if (K == 0 || !heights.evaluateQueued || heights.queuedGroup == 0) return false;
+  const uint64_t bound = std::min<uint64_t>(ws.pointCapacity, uint64_t(rays) * insertsPerRay(K));
+  const uint64_t maxGroups = ws.ctx->properties.limits.maxComputeWorkGroupCount[0];
+  return (bound + 63) / 64 <= maxGroups && (bound + heights.queuedGroup - 1) / heights.queuedGroup <= maxGroups;
 }
 
 void cmdBackwardSurfaceToHeights(VkCommandBuffer cb, WaterSurface& ws, const Buffer& rays, const Buffer& records, const Buffer& rayGrads,
@@ -463,16 +536,8 @@ void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource
 SurfaceCounters readSurfaceCounters(Context& ctx, WaterSurface& ws) {
   uint32_t c[kCounterCount] = {};
   download(ctx, ws.counters, c, sizeof(c));
-  SurfaceCounters s;
-  s.points = c[0];
-  s.missed = c[1];
-  s.invalid = c[2];
-  s.fallback = c[3];
-  s.nonFiniteGradients = c[4];
-  s.lookupFailures = c[5];
-  s.degenerate = c[6];
-  s.backFacing = c[7];
-  return s;
+  return countersFrom(c);
 }
+
 
 }  // namespace refrax

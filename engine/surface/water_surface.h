@@ -5,9 +5,11 @@
 // backward from dL/d(refracted ray) to dL/dheights and on to H's parameters.
 //
 // Per step:  cmdUpdateSurface (H at the coarse vertices, BLAS refit)
-//            traceSurface     (refracted rays + per-ray records; submits K + 2 times: the
-//                              number of new lattice points of each level is read back so
-//                              H is evaluated exactly once per unique new point)
+//            traceSurface     (refracted rays + per-ray records, H evaluated exactly once per
+//                              unique new lattice point; one submission, each level's new
+//                              points counted on the device and evaluated by an indirect
+//                              dispatch, where the height source can run so; else K + 2
+//                              submissions, each level's count read back in between)
 //            cmdBackwardSurface (uses the records and lattice of the last traceSurface)
 //
 // The lattice points a trace evaluates stay in a cache until the heights change
@@ -65,6 +67,7 @@ struct SurfaceCounters {
 struct SurfacePipelines {
   ComputePipeline gridPoints, gridVertices, globalTrace, requestPoints, subdivide, refract, backward, compact;
   ComputePipeline heightRange;  // compute trace backend: the proxy mesh's height range for the grid walk
+  ComputePipeline pointRange, pointMove;  // the one-submission trace: a level's new points counted and moved on the device
 };
 
 struct WaterSurface {
@@ -86,6 +89,10 @@ struct WaterSurface {
   Buffer evalPoints, evalHeights;  // one level's new points, handed to the height source
   Buffer pushPoints, pushGrads, pushCount;  // pushSurfaceGradients: the points with a gradient
   Buffer counters, hitNormals;
+  // The one-submission trace: the range of a level's new points and its dispatches' group
+  // counts (surface_point_range.comp), and the counters copied where the host reads them
+  // without another submission.
+  Buffer pointRange, countersReadback;
   uint32_t latticeStride = 0;  // (cellsX << K) + 3
   uint64_t latticePoints = 0;  // latticeStride * ((cellsY << K) + 3)
   uint32_t pointCapacity = 0;
@@ -118,7 +125,8 @@ using SurfaceTimings = std::map<std::string, double>;
 
 // Traces `count` camera rays (GpuRay) through the surface: refractedRays gets one GpuRay per
 // ray (origin = hit point, direction = refracted; unchanged for rays that miss the domain;
-// an empty ray for invalid input), records one SurfaceRecord per ray. Submits and waits.
+// an empty ray for invalid input), records one SurfaceRecord per ray. Submits and waits:
+// once where traceIsOneSubmission, else K + 2 times.
 // Work recorded into the trace's first submission before the trace (what makes the rays) and
 // into its last after it (what reads the refracted rays): a training step then submits no
 // more often than the trace itself.
@@ -148,6 +156,10 @@ void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& he
 // Adds scale * g (one value per coarse grid slot, gridPointCount) to the pending dL/dheight
 // (a prior's gradient), starting a new sum when none is pending.
 void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g, double scale);
+// Whether traceSurface of `rays` rays runs as one submission: the source evaluates heights on a
+// count the device wrote (HeightSource::evaluateQueued), and every level's new points fit one
+// dispatch of the device's group-count limit.
+bool traceIsOneSubmission(const WaterSurface& ws, const HeightSource& heights, uint32_t rays);
 // Whether a trace of `rays` rays fits the point cache as it is (else the trace empties the
 // cache first, which needs no gradient to be pending).
 bool surfaceCacheHasRoom(const WaterSurface& ws, uint32_t rays);

@@ -39,6 +39,8 @@ Buffer createBuffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags extraUsa
 
 // AS build inputs (vertices, indices, boxes, instances) need this usage bit.
 constexpr VkBufferUsageFlags kAccelInput = VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR;
+// Group counts an indirect dispatch reads (cmdDispatchIndirect).
+constexpr VkBufferUsageFlags kIndirectArgs = VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
 
 void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
 void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);

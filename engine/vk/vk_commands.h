@@ -12,7 +12,8 @@ struct Context;
 // Records with `record`, submits on the compute queue and waits for completion.
 void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& record);
 
-// Shader/transfer/AS-build writes made visible to every later compute, transfer and AS read.
+// Shader/transfer/AS-build writes made visible to every later compute, transfer, AS and
+// indirect-dispatch read.
 void cmdBarrier(VkCommandBuffer cb);
 
 }  // namespace refrax

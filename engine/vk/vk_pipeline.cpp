@@ -126,8 +126,9 @@ Binding bindImage(VkImageView view) {
   return r;
 }
 
-void cmdDispatch(VkCommandBuffer cb, const ComputePipeline& p, std::initializer_list<Binding> bindings, const void* push,
-                 uint32_t gx, uint32_t gy, uint32_t gz) {
+namespace {
+// Binds the pipeline, pushes its bindings (checked against its list) and push constants.
+void cmdBindForDispatch(VkCommandBuffer cb, const ComputePipeline& p, std::initializer_list<Binding> bindings, const void* push) {
   if (bindings.size() != p.bindings.size())
     fail("dispatch of '" + p.name + "' with " + std::to_string(bindings.size()) + " bindings, pipeline declares " +
          std::to_string(p.bindings.size()));
@@ -163,7 +164,22 @@ void cmdDispatch(VkCommandBuffer cb, const ComputePipeline& p, std::initializer_
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
   if (n) vkCmdPushDescriptorSetKHR(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, uint32_t(n), writes.data());
   if (p.pushBytes) vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, p.pushBytes, push);
+}
+}  // namespace
+
+void cmdDispatch(VkCommandBuffer cb, const ComputePipeline& p, std::initializer_list<Binding> bindings, const void* push,
+                 uint32_t gx, uint32_t gy, uint32_t gz) {
+  cmdBindForDispatch(cb, p, bindings, push);
   vkCmdDispatch(cb, gx, gy, gz);
+  if (p.ctx && p.ctx->profiler) p.ctx->profiler->dispatches++;
+}
+
+void cmdDispatchIndirect(VkCommandBuffer cb, const ComputePipeline& p, std::initializer_list<Binding> bindings, const void* push,
+                         const Buffer& args, VkDeviceSize offset) {
+  if (offset % 4 != 0 || offset + sizeof(VkDispatchIndirectCommand) > args.size)
+    fail("indirect dispatch of '" + p.name + "': its group counts lie outside the buffer");
+  cmdBindForDispatch(cb, p, bindings, push);
+  vkCmdDispatchIndirect(cb, args.buffer, offset);
   if (p.ctx && p.ctx->profiler) p.ctx->profiler->dispatches++;
 }
 

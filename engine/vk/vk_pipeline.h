@@ -66,6 +66,12 @@ Binding bindImage(VkImageView view);
 void cmdDispatch(VkCommandBuffer cb, const ComputePipeline& p, std::initializer_list<Binding> bindings, const void* push,
                  uint32_t gx, uint32_t gy = 1, uint32_t gz = 1);
 
+// The same, with the group counts (a VkDispatchIndirectCommand) read from `args` at `offset`
+// when the dispatch runs: a count the device computed earlier in the same submission. `args`
+// needs kIndirectArgs usage.
+void cmdDispatchIndirect(VkCommandBuffer cb, const ComputePipeline& p, std::initializer_list<Binding> bindings, const void* push,
+                         const Buffer& args, VkDeviceSize offset);
+
 inline uint32_t groupsFor(uint32_t items, uint32_t groupSize) { return (items + groupSize - 1) / groupSize; }
 
 }  // namespace refrax
