@@ -161,8 +161,9 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
     CHECK(c.plain["profile"]["submits_per_step"].get<double>() < 1.2);
     // Refraction: the water's trace is one submission with the forward and the loss (each level's
     // new lattice points counted on the device), the backward another; more only where the water
-    // steps (its gradient's points listed, then pushed) and at the host's events. Measured 2.3
-    // (tiny preset, the defaults); 6.5 when the trace read each level's count back.
+    // steps (its gradient's points listed, then pushed with its Adam step) and at the host's
+    // events. Measured 2.15 (tiny preset, the defaults); 6.45 when the trace read each level's
+    // count back.
     CHECK_MESSAGE(p["submits_per_step"].get<double>() < 3.0, p["submits_per_step"].get<double>());
     CHECK(plain.contains("gaussian proxies"));
     for (auto& [stage, ms] : plain.items()) CHECK_MESSAGE(stage.rfind("water", 0) != 0, stage);  // no water in straight rays

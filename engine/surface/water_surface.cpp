@@ -495,11 +495,14 @@ void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g
   ws.gradientPending = true;
 }
 
-void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights) {
-  if (!ws.gradientPending) return;
+void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights, const std::function<void(VkCommandBuffer)>& then) {
+  auto thenAlone = [&] {
+    if (then) submitAndWait(ctx, then);
+  };
+  if (!ws.gradientPending) return thenAlone();
   if (!heights.accumulateGradients) {
     ws.gradientPending = false;
-    return;
+    return thenAlone();
   }
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     vkCmdFillBuffer(cb, ws.pushCount.buffer, 0, VK_WHOLE_SIZE, 0);
@@ -518,13 +521,14 @@ void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& he
   });
   uint32_t listed = 0;
   download(ctx, ws.pushCount, &listed, 4);
-  if (listed)
-    submitAndWait(ctx, [&](VkCommandBuffer cb) {
-      heights.accumulateGradients(cb, ws.pushPoints, ws.pushGrads, listed);
-      cmdBarrier(cb);
-      profileStage(cb, ctx, "water backward: to weights");
-    });
   ws.gradientPending = false;
+  if (!listed) return thenAlone();
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    heights.accumulateGradients(cb, ws.pushPoints, ws.pushGrads, listed);
+    cmdBarrier(cb);
+    profileStage(cb, ctx, "water backward: to weights");
+    if (then) then(cb);
+  });
 }
 
 void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, const Buffer& records,

@@ -152,7 +152,9 @@ void cmdBackwardSurfaceToHeights(VkCommandBuffer cb, WaterSurface& ws, const Buf
 void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights);
 // cmdPushSurfaceGradients over only the points whose pending gradient is not zero (listed on
 // the device first, their count read back: submits twice). The same sum in another order.
-void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights);
+// `then` (the optimiser's step, say) is recorded into the second submission, after the push.
+void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights,
+                          const std::function<void(VkCommandBuffer)>& then = {});
 // Adds scale * g (one value per coarse grid slot, gridPointCount) to the pending dL/dheight
 // (a prior's gradient), starting a new sum when none is pending.
 void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g, double scale);

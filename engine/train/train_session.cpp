@@ -558,11 +558,12 @@ void surfaceStep(TrainSession& s, int t) {
     ensureSurfacePrior(s);
     addGridGradient(ctx, ws, s.water.priorGrad, double(batchSteps));
   }
-  pushWaterGradient(s);
   if (s.model.height) {
-    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    // the push and the step in one submission (the push's count read back before it)
+    pushWaterGradient(s, [&](VkCommandBuffer cb) {
       AdamSettings settings;
       settings.agreementPower = s.model.config.surfaceAgreement;
+      cmdBarrier(cb);
       cmdAdamStep(cb, s.water.adamPipelines, s.water.heightAdam, s.model.height->weights, s.water.heightGrad, 0, true, settings);
       cmdBarrier(cb);
       profileStage(cb, ctx, "water adam");
@@ -572,6 +573,7 @@ void surfaceStep(TrainSession& s, int t) {
     HostStage h(ctx, "water anchor (host)");
     anchorMeanHeight(s);
   } else {
+    pushWaterGradient(s);
     planeAdamStep(s, s.water.planeGrad);
     s.water.planeGrad = 0;
     liftSurface(s.model);
@@ -781,13 +783,17 @@ SweepAgreement agreementOfMirror(TrainSession& s) {
   return a;
 }
 
-void pushWaterGradient(TrainSession& s) {
-  if (!s.model.surface || !s.model.surface->gradientPending) return;
+void pushWaterGradient(TrainSession& s, const std::function<void(VkCommandBuffer)>& then) {
+  if (!s.model.surface || !s.model.surface->gradientPending) {
+    if (then) submitAndWait(*s.model.ctx, then);
+    return;
+  }
   if (s.model.height) {
-    pushSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad));
+    pushSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad), then);
   } else {
     s.water.planeGrad += planeHeightGradient(s);
     s.model.surface->gradientPending = false;
+    if (then) submitAndWait(*s.model.ctx, then);
   }
 }
 

@@ -173,7 +173,9 @@ StepResult trainStep(TrainSession& session);
 // lifts the surface again, re-creates it or saves the session; a no-op when nothing is pending.
 // A missed push is an error, not a lost gradient: the surface refuses to be lifted or
 // re-created, and its point cache to overflow, while a gradient is pending (water_surface.h).
-void pushWaterGradient(TrainSession& session);
+// `then` (the water's Adam step) is recorded after the push, in its last submission (alone where
+// nothing is pending).
+void pushWaterGradient(TrainSession& session, const std::function<void(VkCommandBuffer)>& then = {});
 
 // The parts of a step, for trainStep and for checks that differentiate a fixed batch
 // (engine/train/gradient_check.h).
