@@ -417,8 +417,7 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
       recordRefraction(t, cb, evaluate, refractedRays, hooks);
       // the counters where the host reads them after the wait, with no submission of their own
       cmdBarrier(cb);
-      VkBufferCopy c{0, 0, kCounterCount * 4};
-      vkCmdCopyBuffer(cb, ws.counters.buffer, ws.countersReadback.buffer, 1, &c);
+      cmdCopyToHost(cb, ws.counters, 0, ws.countersReadback, 0, kCounterCount * 4);
     });
     ws.lastCounters = countersFrom(static_cast<const uint32_t*>(ws.countersReadback.mapped));
     if (ws.lastCounters.points > ws.pointCapacity)

@@ -270,6 +270,7 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   s->buffers.lossPipelines = createLossPipelines(ctx);
   s->buffers.copyPipeline = createStridedCopyPipeline(ctx);
   s->buffers.lossResult = createBuffer(ctx, 16);
+  s->buffers.stepScalars = createBuffer(ctx, 16, 0, MemoryUse::Readback);
   s->water.adamPipelines = createAdamPipelines(ctx);
   if (s->model.height) {
     // Lavapipe builds a pipeline at its first dispatch (a second or more for the MLP's
@@ -464,6 +465,7 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
     cmdCopyStrided(cb, s.buffers.copyPipeline, s.model.results, {kTraceResultFloats, 0}, s.buffers.rendered, {3, 0}, 3, n, weights);
     cmdImageLoss(cb, s.buffers.lossPipelines, s.buffers.lossScratch, s.buffers.rendered, s.buffers.target, s.buffers.lossGrad, s.buffers.lossResult);
     cmdBarrier(cb);
+    cmdCopyToHost(cb, s.buffers.lossResult, 0, s.buffers.stepScalars, 0, 4);
     // dL/d(rgb, opacity): the opacity's stays 0, the background is part of rgb
     cmdCopyStrided(cb, s.buffers.copyPipeline, s.buffers.lossGrad, {3, 0}, s.buffers.dLoss, {4, 0}, 3, n, weights);
     cmdBarrier(cb);
@@ -480,7 +482,7 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
     });
   }
   if (readRendered) f.rendered = downloadVector<float>(ctx, s.buffers.rendered, size_t(n) * 3);
-  f.imageLoss = downloadVector<float>(ctx, s.buffers.lossResult, 4)[0];
+  f.imageLoss = static_cast<const float*>(s.buffers.stepScalars.mapped)[0];
   return f;
 }
 
@@ -589,6 +591,8 @@ void cmdDensityLoss(VkCommandBuffer cb, TrainSession& s) {
   if (!(s.model.config.densityLossWeight > 0)) return;
   cmdDensityRegularizer(cb, s.buffers.lossPipelines, s.model.device.params, s.model.device.count, s.buffers.grads, s.buffers.densityPartials, s.buffers.densityResult,
                         float(s.model.config.densityLossWeight), kGaussianFloats, f32::kGaussLogitDensity);
+  cmdBarrier(cb);
+  cmdCopyToHost(cb, s.buffers.densityResult, 0, s.buffers.stepScalars, 4, 4);
   profileStage(cb, *s.model.ctx, "density regulariser");
 }
 
@@ -601,12 +605,12 @@ double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
   const TrainConfig& c = s.model.config;
   if (s.buffers.gaussianOptimiser) {  // stepped in the batch's command buffer (cmdGaussianStep)
     s.buffers.gaussianCopies = StepBuffers::Copies::DeviceNewer;
-    return c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.buffers.densityResult, 4)[0] : 0.0;
+    return c.densityLossWeight > 0 ? static_cast<const float*>(s.buffers.stepScalars.mapped)[1] : 0.0;
   }
   pullGaussians(s);
   std::vector<float> grads = downloadVector<float>(ctx, s.buffers.grads, s.model.gaussians.params.size());
   std::vector<float> stats = downloadVector<float>(ctx, s.buffers.stats, s.model.gaussians.count() * 2);
-  const double densityLoss = c.densityLossWeight > 0 ? downloadVector<float>(ctx, s.buffers.densityResult, 4)[0] : 0.0;
+  const double densityLoss = c.densityLossWeight > 0 ? static_cast<const float*>(s.buffers.stepScalars.mapped)[1] : 0.0;
   if (c.gaussiansFixed) return densityLoss;  // a study of the water alone: the Gaussians stay as read
   HostStage h(ctx, "gaussian adam (host)");
   const float statScale = densifyStatScale(batchRays);

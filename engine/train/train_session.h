@@ -93,6 +93,9 @@ struct StepBuffers {
   Buffer pixels, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
   Buffer pixelWeights;    // the batch's mask (1: the pixel counts), for masked views
   Buffer densityPartials, densityResult;  // the density regulariser's partial sums and value (engine/loss/image_loss.h)
+  // The step's scalars where the host reads them after its wait with no submission of their
+  // own (a discrete GPU's download is one): [0] the image loss, [1] the density regulariser.
+  Buffer stepScalars;
   HitRecords hitRecords;  // the forward's blended hits, read by the backward (config.hitRecordsPerRay)
   // The Gaussians' optimiser on the device (engine/gaussian/gaussian_device_step.h), when the
   // run steps them there (gaussianStepsOnDevice); its moments and statistic sums are the device's

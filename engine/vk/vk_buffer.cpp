@@ -142,6 +142,7 @@ void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, V
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(cb, src.buffer, staging.buffer, 1, &region);
+    cmdBarrierToHost(cb);
   });
   std::memcpy(data, staging.mapped, bytes);
 }

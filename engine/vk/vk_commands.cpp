@@ -1,6 +1,7 @@
 #include "engine/vk/vk_commands.h"
 
 #include "engine/base/error.h"
+#include "engine/vk/vk_buffer.h"
 #include "engine/vk/vk_context.h"
 #include "engine/vk/vk_profile.h"
 
@@ -34,6 +35,22 @@ void cmdBarrier(VkCommandBuffer cb) {
                                 VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR;
   // an indirect dispatch reads its group counts at the draw-indirect stage
   vkCmdPipelineBarrier(cb, stages, stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
+void cmdBarrierToHost(VkCommandBuffer cb) {
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
+void cmdCopyToHost(VkCommandBuffer cb, const Buffer& src, VkDeviceSize srcOffset, const Buffer& dst, VkDeviceSize dstOffset,
+                   VkDeviceSize bytes) {
+  if (!dst.mapped) fail("cmdCopyToHost into a buffer the host cannot read (create it with MemoryUse::Readback)");
+  if (srcOffset + bytes > src.size || dstOffset + bytes > dst.size) fail("cmdCopyToHost past the end of a buffer");
+  VkBufferCopy c{srcOffset, dstOffset, bytes};
+  vkCmdCopyBuffer(cb, src.buffer, dst.buffer, 1, &c);
+  cmdBarrierToHost(cb);
 }
 
 }  // namespace refrax
