@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "engine/height/height_field_kernels.h"
 #include "engine/surface/height_field_source.h"
+#include "engine/vk/vk_profile.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_test_util.h"
 
@@ -132,4 +134,100 @@ GPU_TEST_CASE("surface batch: dL/dweights summed over traces and pushed once equ
     CHECK(scale > 1e-3);
     CHECK(relativeDifference(got, reference) < 1e-4);  // float sums in another order
   }
+}
+
+GPU_TEST_CASE("surface batch: the push runs on the count the device listed, in one submission, as the count read back") {
+  // The points with a gradient are listed on the device; the height backward's chunks then take
+  // their group counts from that count (height_grad_groups.comp) with `then` in the same
+  // submission, where the fallback reads the count back and submits again. Both must give the
+  // same weight gradient: rows past the count that a tile reads are zeroed (stale gradients
+  // planted there must not count), and pass 1 writes every scratch row the tiles read (a
+  // chunk of 192 points leaves partial tiles; the scratch holds the previous chunk's rows).
+  HeightFieldConfig hc;
+  hc.width = 32;
+  hc.hiddenLayers = 3;
+  hc.octaves = 2;
+  hc.lastLayerInitRange = 0.05f;
+  HeightField hf = createHeightField(ctx, hc, rng());
+  const uint32_t n = 1500;
+  const std::vector<GpuRay> many = test::raysFromAbove(rng, n, 0.9f), few = test::raysFromAbove(rng, n / 3, 0.3f);
+  Buffer gradsMany = createBufferFrom(ctx, rayGradients(rng, n)), gradsFew = createBufferFrom(ctx, rayGradients(rng, n / 3));
+  const uint32_t fullChunk = hf.backwardChunk;
+  for (uint32_t chunk : {fullChunk, 192u}) {
+    hf.backwardChunk = chunk;
+    CAPTURE(chunk);
+    WaterSurface one = createWaterSurface(ctx, smallSurface(n)), readBack = createWaterSurface(ctx, smallSurface(n));
+    Buffer sumOne = createBuffer(ctx, hf.parameterCount * 4), sumReadBack = createBuffer(ctx, hf.parameterCount * 4);
+    Buffer marks = createBuffer(ctx, 8);
+    fillBuffer(ctx, sumOne, 0);
+    fillBuffer(ctx, sumReadBack, 0);
+    fillBuffer(ctx, marks, 0);
+    fillBuffer(ctx, one.pushGrads, 0x3f800000u);  // 1.0: stale gradients past any count
+    const HeightSource queued = heightSource(hf, sumOne);
+    HeightSource counted = heightSource(hf, sumReadBack);
+    counted.accumulateQueued = nullptr;
+    test::updateSurface(ctx, one, queued);
+    test::updateSurface(ctx, readBack, counted);
+    // a push of many points, then of fewer (the first push's rows lie past the second's count)
+    for (auto [rays, grads] : {std::pair{&many, &gradsMany}, std::pair{&few, &gradsFew}}) {
+      const uint32_t m = uint32_t(rays->size());
+      for (WaterSurface* ws : {&one, &readBack}) {
+        test::SurfaceRun run = test::runSurface(ctx, *ws, queued, *rays);
+        submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBackwardSurfaceToHeights(cb, *ws, run.rays, run.records, *grads, m); });
+      }
+      GpuProfiler profiler;
+      attachProfiler(ctx, profiler);
+      pushSurfaceGradients(ctx, one, queued, [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, marks.buffer, 0, 4, 1); });
+      const uint64_t oneSubmits = profiler.submits;
+      pushSurfaceGradients(ctx, readBack, counted, [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, marks.buffer, 4, 4, 1); });
+      const uint64_t readBackSubmits = profiler.submits - oneSubmits;
+      detachProfiler(ctx);
+      CAPTURE(m);
+      CHECK(oneSubmits == 1);
+      CHECK(readBackSubmits == 2);
+      const std::vector<uint32_t> ran = downloadVector<uint32_t>(ctx, marks, 2);
+      CHECK(ran[0] == 1);
+      CHECK(ran[1] == 1);
+      fillBuffer(ctx, marks, 0);
+      uint32_t listed = 0;
+      download(ctx, one.pushCount, &listed, 4);
+      CHECK(listed > (chunk == fullChunk || m < n ? 0u : 2 * chunk));  // several chunks at 192
+      const std::vector<float> a = downloadVector<float>(ctx, sumOne, hf.parameterCount);
+      const std::vector<float> b = downloadVector<float>(ctx, sumReadBack, hf.parameterCount);
+      double scale = 0;
+      for (float g : b) scale = std::max(scale, double(std::abs(g)));
+      CHECK(scale > 1e-3);
+      CHECK(relativeDifference(a, b) < 1e-5);  // the listed order is the atomics': float sums in another order
+    }
+  }
+  hf.backwardChunk = fullChunk;
+}
+
+GPU_TEST_CASE("height field: the queued backward declines, recording nothing, where its table cannot hold the chunks") {
+  HeightFieldConfig hc;
+  hc.width = 16;
+  hc.hiddenLayers = 2;
+  HeightField hf = createHeightField(ctx, hc, rng());
+  hf.backwardChunk = 64;
+  const uint32_t perChunk = hc.hiddenLayers + 2, fits = uint32_t(hf.backwardGroups.size / 32 / perChunk) * 64;
+  Buffer points = createBuffer(ctx, (fits + 64) * 8), grads = createBuffer(ctx, (fits + 64) * 4), count = createBuffer(ctx, 4);
+  Buffer weights = createBuffer(ctx, hf.parameterCount * 4);
+  bool small = false, large = true;
+  GpuProfiler profiler;
+  attachProfiler(ctx, profiler);
+  profiler.gpu = false;  // counts dispatches only (hundreds of chunks would outrun the timer's slots)
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    vkCmdFillBuffer(cb, count.buffer, 0, 4, 0);
+    vkCmdFillBuffer(cb, weights.buffer, 0, VK_WHOLE_SIZE, 0);
+    cmdBarrier(cb);
+    small = cmdAccumulateHeightGradientsQueued(cb, hf, points, grads, count, fits, weights);
+    const uint64_t before = profiler.dispatches;
+    large = cmdAccumulateHeightGradientsQueued(cb, hf, points, grads, count, fits + 64, weights);
+    CHECK(profiler.dispatches == before);
+  });
+  detachProfiler(ctx);
+  CHECK(small);
+  CHECK_FALSE(large);
+  const std::vector<float> w = downloadVector<float>(ctx, weights, hf.parameterCount);
+  CHECK(std::all_of(w.begin(), w.end(), [](float x) { return x == 0.0f; }));  // a count of 0 adds nothing
 }

@@ -159,12 +159,13 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
     // Straight rays: one submission a step (forward, backward, the Gaussians' Adam and their
     // proxies' refit), but at the steps where the host densifies or reorders the proxies.
     CHECK(c.plain["profile"]["submits_per_step"].get<double>() < 1.2);
-    // Refraction: the water's trace is one submission with the forward and the loss (each level's
-    // new lattice points counted on the device), the backward another; more only where the water
-    // steps (its gradient's points listed, then pushed with its Adam step) and at the host's
-    // events. Measured 2.15 (tiny preset, the defaults); 6.45 when the trace read each level's
-    // count back.
-    CHECK_MESSAGE(p["submits_per_step"].get<double>() < 3.0, p["submits_per_step"].get<double>());
+    // Refraction: the water's trace is one submission with the forward, the loss, the backward
+    // and the Gaussians' step (each level's new lattice points counted on the device); one more
+    // where the water steps (its gradient's points listed and pushed on the count the device
+    // wrote, with its Adam step and the surface's update) and at the host's events (the restarts'
+    // plane sweeps). Measured 1.34 here; 1.45 when the push read its count back, and 6.45 (40
+    // steps of the defaults) when the trace read each level's count back.
+    CHECK_MESSAGE(p["submits_per_step"].get<double>() < 1.4, p["submits_per_step"].get<double>());
     CHECK(plain.contains("gaussian proxies"));
     for (auto& [stage, ms] : plain.items()) CHECK_MESSAGE(stage.rfind("water", 0) != 0, stage);  // no water in straight rays
 

@@ -73,6 +73,8 @@ struct HeightField {
   // layered forward reuses it. backwardChunk may be lowered (tests), never raised.
   Buffer scratch;
   uint32_t backwardChunk = 0;
+  // cmdAccumulateHeightGradientsQueued's dispatch table (height_grad_groups.comp).
+  Buffer backwardGroups;
   // Kernel choice, for tests and benchmarks: the loop-based kernels instead of the generated
   // straight-line ones; the compare-and-swap float add even where atomicAdd exists.
   bool forceGenericForward = false;
@@ -95,6 +97,14 @@ void cmdEvaluateHeightsQueued(VkCommandBuffer cb, const HeightField& hf, const B
 // dLossdWeights[j] += sum_i dLossdHeight[i] * dH(points[i])/dweight_j   (accumulates, never overwrites)
 void cmdAccumulateHeightGradients(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, const Buffer& dLossdHeight,
                                   uint32_t count, const Buffer& dLossdWeights);
+// The same for the points [0, n) of a count the device wrote (count[0]; HeightSource::
+// accumulateQueued): the chunks that bound >= n points need are recorded, and each one's
+// dispatches take their group counts from a table the device fills from n, so the host never
+// reads n. Rows of dLossdHeight past n (up to a weight-gradient tile) are set to zero: they
+// are read as part of n's last tile. Returns false, recording nothing, where the field cannot
+// run so (the loop-based weight-gradient pass, or more chunks than the table holds).
+bool cmdAccumulateHeightGradientsQueued(VkCommandBuffer cb, const HeightField& hf, const Buffer& points, const Buffer& dLossdHeight,
+                                        const Buffer& count, uint32_t bound, const Buffer& dLossdWeights);
 // Creates and runs once every pipeline the current kernel choice needs, so that the compile
 // cost (lavapipe JIT-compiles at the first dispatch) is paid here; returns the milliseconds.
 double warmUpHeightField(HeightField& hf);

@@ -68,9 +68,21 @@ bool heightShaderEmbedded(const std::string& name);
 const ComputePipeline& heightWeightGradPipeline(const HeightField& hf);
 
 // Backward pass 2 by generated weight-gradient tiles (when the build has them and the device
-// allows): one dispatch per layer over the chunk's `count` points in the scratch.
+// allows): one dispatch per layer over the chunk's `count` points in the scratch, of
+// (tiles of kHeightGradTile points, y, z) groups. With `groups`, layer l's group counts are
+// the entry at groupsOffset + l * kHeightGroupEntryBytes (height_grad_groups.comp: the tiles
+// that hold a count the device wrote).
 bool heightGradTilesAvailable(const HeightField& hf);
-void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, uint32_t scratchInputs, const Buffer& dLossdWeights);
+struct HeightGradTileGroups {
+  uint32_t y, z;
+};
+HeightGradTileGroups heightGradTileGroups(const HeightField& hf, uint32_t layer);
+void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, uint32_t scratchInputs, const Buffer& dLossdWeights,
+                        const Buffer* groups = nullptr, VkDeviceSize groupsOffset = 0);
+// height_grad_groups.comp's entries: 8 uints, {first, limit, roundTo, groupSize, x, y, z, 0};
+// the VkDispatchIndirectCommand at byte 16.
+constexpr VkDeviceSize kHeightGroupEntryBytes = 32;
+constexpr VkDeviceSize kHeightGroupEntryArgs = 16;
 
 // The pipeline `key` of the field, created by `make` on first use.
 const ComputePipeline& heightPipeline(const HeightField& hf, const std::string& key, const std::function<ComputePipeline()>& make);

@@ -40,7 +40,14 @@ bool heightGradTilesAvailable(const HeightField& hf) {
   return true;
 }
 
-void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, uint32_t scratchInputs, const Buffer& dLossdWeights) {
+HeightGradTileGroups heightGradTileGroups(const HeightField& hf, uint32_t layer) {
+  const HeightFieldConfig& c = hf.config;
+  const uint32_t n = uint32_t(layer == 0 ? hf.inputCount : c.width), m = uint32_t(layer == c.hiddenLayers ? 1 : c.width);
+  return {groupsFor(n, kHeightGradLanes), m / heightGradBlock(m)};
+}
+
+void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t count, uint32_t scratchInputs, const Buffer& dLossdWeights,
+                        const Buffer* groups, VkDeviceSize groupsOffset) {
   const HeightFieldConfig& c = hf.config;
   // I: the network's inputs (the weights' layout); S: the inputs per point in the scratch
   // (more than I after a padded pass 1, whose extra inputs have no weights to train)
@@ -54,7 +61,12 @@ void cmdHeightGradTiles(VkCommandBuffer cb, const HeightField& hf, uint32_t coun
     uint32_t mb = heightGradBlock(m);
     GradPush push{count, n, m, uint32_t(scratchX(l)), uint32_t(scratchD(l)),
                   uint32_t(l == 0 ? 0 : W * I + uint64_t(l - 1) * W * W), uint32_t(l == 0 ? S : n)};
-    cmdDispatch(cb, tilePipeline(hf, mb), {bind(hf.scratch), bind(dLossdWeights)}, &push, tiles, groupsFor(n, kHeightGradLanes), m / mb);
+    const HeightGradTileGroups g = heightGradTileGroups(hf, l);
+    if (groups)
+      cmdDispatchIndirect(cb, tilePipeline(hf, mb), {bind(hf.scratch), bind(dLossdWeights)}, &push, *groups,
+                          groupsOffset + l * kHeightGroupEntryBytes + kHeightGroupEntryArgs);
+    else
+      cmdDispatch(cb, tilePipeline(hf, mb), {bind(hf.scratch), bind(dLossdWeights)}, &push, tiles, g.y, g.z);
   }
 }
 

@@ -26,6 +26,12 @@ struct HeightSource {
   // Adds sum_k dLoss/dheight[k] * dH(points[k])/dparams to the source's gradient; empty
   // for sources without parameters.
   std::function<void(VkCommandBuffer, const Buffer& points, const Buffer& dLossdHeight, uint32_t count)> accumulateGradients;
+  // The same for the points [0, n) of a count the device wrote (count[0]), bound >= n what the
+  // caller's buffers hold: rows of dLossdHeight past n may be set to zero. Returns false,
+  // recording nothing, where the source cannot (the caller reads n back instead); empty for
+  // sources that never can.
+  std::function<bool(VkCommandBuffer, const Buffer& points, const Buffer& dLossdHeight, const Buffer& count, uint32_t bound)>
+      accumulateQueued;
 };
 
 }  // namespace refrax

@@ -24,6 +24,10 @@ HeightSource heightSource(const HeightField& hf, const Buffer& dLossdWeights) {
   s.accumulateGradients = [&hf, &dLossdWeights](VkCommandBuffer cb, const Buffer& points, const Buffer& dLossdHeight, uint32_t count) {
     if (count) cmdAccumulateHeightGradients(cb, hf, points, dLossdHeight, count, dLossdWeights);
   };
+  s.accumulateQueued = [&hf, &dLossdWeights](VkCommandBuffer cb, const Buffer& points, const Buffer& dLossdHeight, const Buffer& count,
+                                              uint32_t bound) {
+    return cmdAccumulateHeightGradientsQueued(cb, hf, points, dLossdHeight, count, bound, dLossdWeights);
+  };
   return s;
 }
 

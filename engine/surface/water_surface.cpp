@@ -503,6 +503,12 @@ void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& he
     ws.gradientPending = false;
     return thenAlone();
   }
+  // The points with a gradient listed on the device; where the source can run on the count
+  // the device wrote, their push (and `then`) follow in the same submission, else the count is
+  // read back and the push is a second one.
+  const uint32_t bound = ws.gridPointCount + ws.cachedPoints;
+  bool queued = false;
+  ws.gradientPending = false;  // taken by the push below (`then` may update the surface)
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     vkCmdFillBuffer(cb, ws.pushCount.buffer, 0, VK_WHOLE_SIZE, 0);
     cmdBarrier(cb);
@@ -517,10 +523,15 @@ void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& he
     }
     cmdBarrier(cb);
     profileStage(cb, ctx, "water backward: points with a gradient");
+    queued = heights.accumulateQueued && heights.accumulateQueued(cb, ws.pushPoints, ws.pushGrads, ws.pushCount, bound);
+    if (!queued) return;
+    cmdBarrier(cb);
+    profileStage(cb, ctx, "water backward: to weights");
+    if (then) then(cb);
   });
+  if (queued) return;
   uint32_t listed = 0;
   download(ctx, ws.pushCount, &listed, 4);
-  ws.gradientPending = false;
   if (!listed) return thenAlone();
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
     heights.accumulateGradients(cb, ws.pushPoints, ws.pushGrads, listed);

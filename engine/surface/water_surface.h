@@ -150,9 +150,10 @@ void cmdBackwardSurfaceToHeights(VkCommandBuffer cb, WaterSurface& ws, const Buf
 // heights.accumulateGradients into H's parameters; gridGrad/pointGrad keep their values
 // (for tests and the flat plane) until the next backward starts a new sum.
 void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights);
-// cmdPushSurfaceGradients over only the points whose pending gradient is not zero (listed on
-// the device first, their count read back: submits twice). The same sum in another order.
-// `then` (the optimiser's step, say) is recorded into the second submission, after the push.
+// cmdPushSurfaceGradients over only the points whose pending gradient is not zero, listed on
+// the device first. The same sum in another order. One submission where heights.accumulateQueued
+// runs on the count the device wrote; else the count is read back and the push is a second.
+// `then` (the optimiser's step, say) is recorded into the last submission, after the push.
 void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights,
                           const std::function<void(VkCommandBuffer)>& then = {});
 // Adds scale * g (one value per coarse grid slot, gridPointCount) to the pending dL/dheight
