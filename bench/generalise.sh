@@ -26,6 +26,8 @@
 #                            [--baseline DIR] [--keep-work] [--smoke]
 #   --set      dev (default) or eval
 #   --scenes N the set's first N scenes (default 12); --seeds S training seeds 1..S (default 2)
+#   --seed-list "A B ..."  these training seeds instead (more seeds of an earlier screen, in
+#              a folder of their own)
 #   --scene-list "A B ..."  these scenes of the set instead (dev: 1-1000, eval: 1001 on), e.g.
 #              the dev scenes where the oracle leads straight rays, to choose among candidates
 #   --steps N  every model trains N steps (default: refrax train's own default, what a user gets)
@@ -59,6 +61,7 @@ set_name=dev
 scenes=12
 seeds=2
 scene_list_arg=""
+seed_list_arg=""
 steps=""
 jobs=1
 method_flags=""
@@ -74,6 +77,7 @@ while [ $# -gt 0 ]; do
     --set) [ $# -ge 2 ] && { [ "$2" = dev ] || [ "$2" = eval ]; } || { echo "generalise: --set needs dev or eval" >&2; exit 2; }; set_name=$2; shift ;;
     --scenes) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --scenes needs a count" >&2; exit 2; }; scenes=$2; shift ;;
     --scene-list) [ $# -ge 2 ] && [[ $2 =~ ^[0-9\ ]*[1-9][0-9\ ]*$ ]] || { echo "generalise: --scene-list needs scene numbers, quoted as one argument" >&2; exit 2; }; scene_list_arg=$2; shift ;;
+    --seed-list) [ $# -ge 2 ] && [[ $2 =~ ^[0-9\ ]*[1-9][0-9\ ]*$ ]] || { echo "generalise: --seed-list needs seed numbers, quoted as one argument" >&2; exit 2; }; seed_list_arg=$2; shift ;;
     --seeds) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --seeds needs a count" >&2; exit 2; }; seeds=$2; shift ;;
     --steps) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --steps needs a step count" >&2; exit 2; }; steps=$2; shift ;;
     --jobs) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "generalise: --jobs needs a count" >&2; exit 2; }; jobs=$2; shift ;;
@@ -107,6 +111,10 @@ if [ -n "$scene_list_arg" ] && [ $smoke = 0 ]; then
   done
 fi
 seed_list=$(seq 1 "$seeds")
+if [ -n "$seed_list_arg" ] && [ $smoke = 0 ]; then
+  seed_list=$(echo $seed_list_arg)
+  seeds=$(echo $seed_list | wc -w)
+fi
 all_models=(method no-refraction flat-water dry-control known-water)
 models=("${all_models[@]}")
 if [ -n "$models_arg" ]; then
