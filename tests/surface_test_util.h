@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/height/analytic_height.h"
+#include "engine/height/height_field.h"
 #include "engine/reference/random_rays.h"
 #include "engine/vk/vk_buffer.h"
 #include "engine/vk/vk_commands.h"
@@ -15,6 +16,17 @@
 namespace refrax::test {
 
 constexpr uint32_t kPoison = 0x7FC00000u;  // quiet NaN
+
+// An MLP the generated (fused) kernels run, its last layer drawn for ripples of a few
+// hundredths: a water-like slope range.
+inline HeightFieldConfig rippleField() {
+  HeightFieldConfig hc;
+  hc.width = 32;
+  hc.hiddenLayers = 3;
+  hc.octaves = 2;
+  hc.lastLayerInitRange = 0.05f;
+  return hc;
+}
 
 struct SurfaceRun {
   Buffer rays, refracted, records;

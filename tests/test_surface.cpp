@@ -164,11 +164,7 @@ GPU_TEST_CASE("subdivision tracing stays within the interpolation bound of the e
 }
 
 GPU_TEST_CASE("subdivision tracing on the MLP surface: exact intersection and interpolation bound over 10k rays") {
-  HeightFieldConfig hc;
-  hc.width = 32;
-  hc.hiddenLayers = 3;
-  hc.octaves = 2;
-  hc.lastLayerInitRange = 0.05f;  // ripples of a few hundredths: a water-like slope range
+  const HeightFieldConfig hc = test::rippleField();
   HeightField hf = createHeightField(ctx, hc, rng());
   std::vector<float> wf = downloadWeights(ctx, hf);
   std::vector<double> wd(wf.begin(), wf.end());
@@ -239,11 +235,7 @@ GPU_TEST_CASE("the trace is one submission where the heights can run on a count 
   // (indirect dispatches); a source without evaluateQueued has the counts read back between K + 2
   // submissions. Both must give bitwise the same rays, records and cache, on an empty cache and on
   // one a first trace filled (the second trace's range starts after it).
-  HeightFieldConfig hc;
-  hc.width = 32;
-  hc.hiddenLayers = 3;
-  hc.octaves = 2;
-  hc.lastLayerInitRange = 0.05f;
+  const HeightFieldConfig hc = test::rippleField();
   HeightField hf = createHeightField(ctx, hc, rng());
   WaterSurfaceConfig cfg;
   cfg.gridCells = 16;

@@ -143,11 +143,7 @@ GPU_TEST_CASE("surface batch: the push runs on the count the device listed, in o
   // same weight gradient: rows past the count that a tile reads are zeroed (stale gradients
   // planted there must not count), and pass 1 writes every scratch row the tiles read (a
   // chunk of 192 points leaves partial tiles; the scratch holds the previous chunk's rows).
-  HeightFieldConfig hc;
-  hc.width = 32;
-  hc.hiddenLayers = 3;
-  hc.octaves = 2;
-  hc.lastLayerInitRange = 0.05f;
+  const HeightFieldConfig hc = test::rippleField();
   HeightField hf = createHeightField(ctx, hc, rng());
   const uint32_t n = 1500;
   const std::vector<GpuRay> many = test::raysFromAbove(rng, n, 0.9f), few = test::raysFromAbove(rng, n / 3, 0.3f);
