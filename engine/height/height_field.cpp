@@ -116,13 +116,8 @@ void cmdBackwardChunk(VkCommandBuffer cb, const HeightField& hf, const HeightBac
                 groupsFor(push.count, backprop.groupSize));
   cmdBarrier(cb);
   profileStage(cb, *hf.ctx, "height backward: activations and deltas");
-  if (groups) {
+  if (groups || heightGradTilesAvailable(hf)) {  // the queued backward runs on the tiles only
     cmdHeightGradTiles(cb, hf, push.count, backprop.scratchInputs, dLossdWeights, groups, groupsOffset + kHeightGroupEntryBytes);
-    profileStage(cb, *hf.ctx, "height backward: weight gradient");
-    return;
-  }
-  if (heightGradTilesAvailable(hf)) {
-    cmdHeightGradTiles(cb, hf, push.count, backprop.scratchInputs, dLossdWeights);
     profileStage(cb, *hf.ctx, "height backward: weight gradient");
     return;
   }

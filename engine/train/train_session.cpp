@@ -561,7 +561,8 @@ void surfaceStep(TrainSession& s, int t) {
     addGridGradient(ctx, ws, s.water.priorGrad, double(batchSteps));
   }
   if (s.model.height) {
-    // the push and the step in one submission (the push's count read back before it)
+    // the push, the water's Adam step and the surface update in one submission
+    // (pushSurfaceGradients: two where the push's count must be read back)
     pushWaterGradient(s, [&](VkCommandBuffer cb) {
       AdamSettings settings;
       settings.agreementPower = s.model.config.surfaceAgreement;
@@ -788,17 +789,14 @@ SweepAgreement agreementOfMirror(TrainSession& s) {
 }
 
 void pushWaterGradient(TrainSession& s, const std::function<void(VkCommandBuffer)>& then) {
-  if (!s.model.surface || !s.model.surface->gradientPending) {
-    if (then) submitAndWait(*s.model.ctx, then);
-    return;
-  }
-  if (s.model.height) {
-    pushSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad), then);
-  } else {
+  const bool pending = s.model.surface && s.model.surface->gradientPending;
+  if (pending && s.model.height)
+    return pushSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad), then);
+  if (pending) {  // the flat plane: its one parameter's gradient is summed on the host
     s.water.planeGrad += planeHeightGradient(s);
     s.model.surface->gradientPending = false;
-    if (then) submitAndWait(*s.model.ctx, then);
   }
+  if (then) submitAndWait(*s.model.ctx, then);
 }
 
 StepResult trainStep(TrainSession& s) {
