@@ -99,4 +99,18 @@ AnalyticWaves loadGroundTruthWaves(const Dataset& d) {
   return w;
 }
 
+KnownWaterTruth loadKnownWater(const Dataset& d) {
+  KnownWaterTruth truth;
+  try {
+    truth.waves = loadGroundTruthWaves(d);
+  } catch (const Error&) {
+    std::optional<HeightGrid> grid = loadGroundTruthSurface(d);  // its own error for a map that is wrong
+    if (!grid) throw;                                             // neither: the closed form's reason
+    if (d.normalization != glm::dmat4(1.0))
+      fail(d.root + "/water.json: the known-water oracle needs a dataset in its own world frame (this one is normalised on loading)");
+    truth.grid = std::move(grid);
+  }
+  return truth;
+}
+
 }  // namespace refrax

@@ -22,4 +22,13 @@ std::optional<HeightGrid> loadGroundTruthSurface(const Dataset& dataset);
 // hold (more than 4 waves and ripples together).
 AnalyticWaves loadGroundTruthWaves(const Dataset& dataset);
 
+// The known-water oracle's water: the closed form where AnalyticWaves holds it (exact); else,
+// where water.json names a height map (every dataset refrax synth writes does), that grid,
+// sampled bilinearly. refrax::Error (loadGroundTruthWaves') when the dataset has neither.
+struct KnownWaterTruth {
+  std::optional<AnalyticWaves> waves;
+  std::optional<HeightGrid> grid;
+};
+KnownWaterTruth loadKnownWater(const Dataset& dataset);
+
 }  // namespace refrax

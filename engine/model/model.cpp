@@ -71,7 +71,12 @@ void initModel(Model& m, Context& ctx, const TrainConfig& config, const Dataset&
     m.plane = createAnalyticHeightField(ctx, w);
   }
   if (config.model == WaterModel::KnownWater) {
-    m.plane = createAnalyticHeightField(ctx, loadGroundTruthWaves(dataset));
+    KnownWaterTruth truth = loadKnownWater(dataset);
+    if (truth.grid) {
+      m.trueGrid.emplace(createGridHeightField(ctx, std::move(*truth.grid)));
+      truth.waves = AnalyticWaves{};  // the plane unused, at height 0
+    }
+    m.plane = createAnalyticHeightField(ctx, *truth.waves);
     m.planeHeight = m.plane.waves.base;  // what a checkpoint stores and restores as the base
   }
   if (config.model != WaterModel::NoRefraction) createSurface(m);
@@ -84,6 +89,7 @@ void uploadModelGaussians(Model& m) {
 
 HeightSource currentHeightSource(const Model& m) {
   if (m.height) return heightSource(*m.height);
+  if (m.trueGrid) return heightSource(*m.trueGrid);
   return heightSource(m.plane);
 }
 
@@ -156,7 +162,8 @@ std::vector<double> sampleWaterHeights(Model& m, uint32_t nx, uint32_t ny) {
     }
   std::vector<double> out(size_t(nx) * ny, m.config.model == WaterModel::FlatWater ? m.planeHeight : m.config.waterHeight);
   if (m.config.model == WaterModel::KnownWater)
-    for (size_t k = 0; k < out.size(); k++) out[k] = analyticHeightRef(m.plane.waves, xy[2 * k], xy[2 * k + 1]);
+    for (size_t k = 0; k < out.size(); k++)
+      out[k] = m.trueGrid ? sampleHeight(m.trueGrid->grid, xy[2 * k], xy[2 * k + 1]) : analyticHeightRef(m.plane.waves, xy[2 * k], xy[2 * k + 1]);
   if (m.height) {
     Context& ctx = *m.ctx;
     Buffer points = createBufferFrom(ctx, xy);

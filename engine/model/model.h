@@ -8,7 +8,8 @@
 // The water, by config.model:
 //   refraction    `height`: the MLP height field (engine/height/height_field.h)
 //   flat-water    `plane`: an analytic field with no waves at the one learned `planeHeight`
-//   known-water   `plane`: the dataset's ground-truth waves (water.json), fixed
+//   known-water   `plane`: the dataset's ground-truth waves (water.json), fixed; or, where
+//                 they have no closed form AnalyticWaves holds, `trueGrid`: its height map
 //   no-refraction no water: camera rays go straight to the Gaussians
 // and, for the first three, `surface`: the proxy mesh lifted from that height source, which
 // refracts rays (engine/surface/water_surface.h).
@@ -22,6 +23,7 @@
 #include "engine/dataset/dataset.h"
 #include "engine/gaussian/gaussian_trace.h"
 #include "engine/height/analytic_height.h"
+#include "engine/height/grid_height.h"
 #include "engine/height/height_field.h"
 #include "engine/surface/water_surface.h"
 #include "engine/run/train_config.h"
@@ -52,6 +54,7 @@ struct Model {
   std::optional<HeightField> height;
   AnalyticHeightField plane;
   double planeHeight = 0;
+  std::optional<GridHeightField> trueGrid;
   std::optional<WaterSurface> surface;
 
   // Rays of one pass (up to `capacity`): from the camera, as they leave the water, the

@@ -67,7 +67,7 @@ void resolveSceneConfig(TrainConfig& c, const Dataset& d) {
            " training images (0 trains on whole images)");
   resolveSchedule(c);
   validateTrainConfig(c);
-  if (c.model == WaterModel::KnownWater) loadGroundTruthWaves(d);  // refused before any device work
+  if (c.model == WaterModel::KnownWater) loadKnownWater(d);  // refused before any device work
 }
 
 namespace {
