@@ -6,11 +6,15 @@
 # water depth), its coverage, and the water-free orthophoto's PSNR. Writes DIR/rows.csv (one
 # row per run) and DIR/summary.md (per preset and model: the median over seeds and the spread).
 #
-# Usage: bench/bed.sh [--presets "A B ..."] [--seeds "1 2 3"] [--steps N] [--out DIR] [--keep-work]
+# Usage: bench/bed.sh [--presets "A B ..."] [--seeds "1 2 3"] [--models "LIST"] [--steps N] [--out DIR] [--keep-work] [--append]
 #   --presets  default: all nine
+#   --models   default "method flat-water no-refraction"; add known-water (the true water fixed:
+#              what the Gaussians alone make of the bed) to tell their error from the water's
 #   --seeds    training seeds (default 1)
 #   --steps    every run's steps (default: refrax train's, sized for the device)
 #   --out      default bench/results/bed/
+#   --append   add the rows to DIR/rows.csv (more seeds or presets in a later sitting, the same
+#              code: run_info.txt records each sitting) and summarise them all
 # Time on this 2-core lavapipe machine at the CPU defaults (4,000 steps of 32 x 32 patches):
 # about 3 minutes a run and a few seconds an export, so 9 presets x 3 models x 1 seed ~ 1.5 h.
 set -euo pipefail
@@ -19,18 +23,23 @@ root=$PWD
 REFRAX=${REFRAX:-$root/build/refrax}
 presets="nerfrac-primary-sine nerfrac-second-sine nerfrac-hybrid desk kitchen toys desk-topdown kitchen-topdown toys-topdown"
 seeds="1"
+models="method flat-water no-refraction"
 steps=""
 out=$root/bench/results/bed
 keep=0
+append=0
 while [ $# -gt 0 ]; do
   case $1 in
     --presets) [ $# -ge 2 ] || { echo "bed.sh: --presets needs a list" >&2; exit 2; }; presets=$2; shift ;;
     --seeds) [ $# -ge 2 ] || { echo "bed.sh: --seeds needs a list" >&2; exit 2; }; seeds=$2; shift ;;
+    --models) [ $# -ge 2 ] || { echo "bed.sh: --models needs a list" >&2; exit 2; }; models=$2; shift
+      for m in $models; do case $m in method|flat-water|no-refraction|known-water) ;; *) echo "bed.sh: unknown model '$m' (method, flat-water, no-refraction, known-water)" >&2; exit 2 ;; esac; done ;;
     --steps) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "bed.sh: --steps needs a step count" >&2; exit 2; }; steps=$2; shift ;;
     --out) [ $# -ge 2 ] || { echo "bed.sh: --out needs a folder" >&2; exit 2; }; out=$2; shift ;;
     --keep-work) keep=1 ;;
+    --append) append=1 ;;
     -h|--help) sed -n '2,/^set -/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "bed.sh: unknown option '$1' (--presets, --seeds, --steps, --out, --keep-work)" >&2; exit 2 ;;
+    *) echo "bed.sh: unknown option '$1' (--presets, --seeds, --models, --steps, --out, --keep-work, --append)" >&2; exit 2 ;;
   esac
   shift
 done
@@ -42,9 +51,16 @@ if [ $keep = 1 ]; then work=$out/work; mkdir -p "$work"; else work=$(mktemp -d "
 device=$("$REFRAX" devices | sed -n '1s/^\[[0-9]*\] //p')
 code=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 [ -z "$(git status --porcelain -- engine shaders trainer 2>/dev/null)" ] || code="$code (with local changes)"
-printf 'device=%s\ncode=%s\nsteps=%s\nseeds=%s\nstarted=%s\n' "$device" "$code" "${steps:-default}" "$seeds" "$(date -u '+%Y-%m-%d %H:%M UTC')" >"$out/run_info.txt"
 rows=$out/rows.csv
-echo "preset,model,seed,psnr,surface_rmse,bottom_rmse_m,bottom_bias_m,bottom_rmse_share,bottom_bias_share,bottom_coverage,ortho_psnr,export_seconds,train_seconds" >"$rows"
+header="preset,model,seed,psnr,surface_rmse,bottom_rmse_m,bottom_bias_m,bottom_rmse_share,bottom_bias_share,bottom_coverage,ortho_psnr,export_seconds,train_seconds"
+if [ $append = 1 ] && [ -f "$rows" ]; then
+  [ "$(head -n 1 "$rows")" = "$header" ] || { echo "bed.sh: --append: $rows is not a bed.sh table" >&2; exit 2; }
+  printf '\n' >>"$out/run_info.txt"  # a sitting of its own
+else
+  echo "$header" >"$rows"
+  : >"$out/run_info.txt"
+fi
+printf 'device=%s\ncode=%s\npresets=%s\nsteps=%s\nseeds=%s\nmodels=%s\nstarted=%s\n' "$device" "$code" "$presets" "${steps:-default}" "$seeds" "$models" "$(date -u '+%Y-%m-%d %H:%M UTC')" >>"$out/run_info.txt"
 train_steps=()
 [ -z "$steps" ] || train_steps=(--steps "$steps")
 for preset in $presets; do
@@ -52,7 +68,7 @@ for preset in $presets; do
   [ -f "$data/water.json" ] || "$REFRAX" synth "$preset" --size full -o "$data" >/dev/null 2>"$work/synth-$preset.log" ||
     { cat "$work/synth-$preset.log" >&2; echo "bed.sh: synth $preset failed" >&2; exit 1; }
   for seed in $seeds; do
-    for model in method flat-water no-refraction; do
+    for model in $models; do
       run=$work/$preset-$model-$seed
       flag=()
       [ $model = method ] || flag=(--$model)
