@@ -353,6 +353,9 @@ void createCommandObjects(Context& ctx) {
 std::unique_ptr<Context> createContext(const ContextOptions& options) {
   auto ctx = std::make_unique<Context>();
   ctx->validation = options.validation || envFlag("REFRAX_VALIDATION");
+  // REFRAX_FORCE_STAGING=1: every transfer through the staging buffer, a submission each, as a
+  // discrete GPU moves them, so that lavapipe counts a step's submissions as such a GPU would.
+  ctx->forceStaging = envFlag("REFRAX_FORCE_STAGING");
   ctx->instance = createInstance(ctx->validation, ctx.get(), &ctx->messenger, options.extraInstanceExtensions);
 
   uint32_t n = 0;

@@ -79,8 +79,8 @@ struct Context {
   VkPhysicalDeviceMemoryProperties memory{};
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelProperties{};
   bool validation = false;
-  // Tests set this to exercise the staging path that discrete GPUs take on a device
-  // whose memory the host could map directly (lavapipe).
+  // Tests (and REFRAX_FORCE_STAGING=1) set this to exercise the staging path that discrete
+  // GPUs take on a device whose memory the host could map directly (lavapipe).
   bool forceStaging = false;
   // Set while a run is profiled (engine/vk/vk_profile.h): submitAndWait times every submission.
   GpuProfiler* profiler = nullptr;
