@@ -116,6 +116,58 @@ GPU_TEST_CASE("the staging path (device memory the host cannot map) round-trips 
   CHECK(tail == std::vector<float>(x.end() - 8, x.end()));
 }
 
+GPU_TEST_CASE("recorded uploads: staged beside a command buffer's work, copied at its head, with no submission of their own") {
+  std::uniform_real_distribution<float> U(-1.0f, 1.0f);
+  auto randomFloats = [&](size_t n) {
+    std::vector<float> v(n);
+    for (auto& x : v) x = U(rng);
+    return v;
+  };
+  const std::vector<float> a = randomFloats(1000), b = randomFloats(37), c = randomFloats(20000);  // odd sizes: the offsets' alignment
+  ctx.forceStaging = true;  // as a discrete GPU: the host cannot map them
+  Buffer ab = createBuffer(ctx, a.size() * 4), bb = createBuffer(ctx, b.size() * 4), cb2 = createBuffer(ctx, c.size() * 4);
+  Buffer yb = createBuffer(ctx, a.size() * 4);
+  ctx.forceStaging = false;
+  REQUIRE(ab.mapped == nullptr);
+  RecordedUploads u;
+  for (int round = 0; round < 2; round++) {  // the area reused once the command buffer has run
+    reserveUploads(ctx, u, {a.size() * 4, b.size() * 4, c.size() * 4});
+    const VkBuffer area = u.area.buffer;
+    stageUpload(ctx, u, ab, a.data(), a.size() * 4);
+    stageUpload(ctx, u, bb, b.data(), b.size() * 4);
+    stageUpload(ctx, u, cb2, c.data(), c.size() * 4);
+    CHECK(u.pending.size() == 3);
+    CHECK(u.area.buffer == area);  // reserved: no growth while copies are pending
+    // The copies and a shader that reads the first upload in one submission.
+    struct {
+      float a, b;
+      uint32_t count;
+    } push{2.0f, -1.0f, uint32_t(a.size())};
+    ComputePipeline p = createComputePipeline(ctx, "scale_add", {kStorageBuffer, kStorageBuffer}, sizeof(push));
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cmdFlushUploads(cb, u);
+      cmdDispatch(cb, p, {bind(ab), bind(yb)}, &push, groupsFor(push.count, 64));
+    });
+    CHECK(u.pending.empty());
+    CHECK(downloadVector<float>(ctx, ab, a.size()) == a);
+    CHECK(downloadVector<float>(ctx, bb, b.size()) == b);
+    CHECK(downloadVector<float>(ctx, cb2, c.size()) == c);
+    const std::vector<float> y = downloadVector<float>(ctx, yb, a.size());
+    for (size_t i = 0; i < a.size(); i++) REQUIRE(y[i] == doctest::Approx(2.0f * a[i] - 1.0f).epsilon(1e-6));
+  }
+  // A destination the host maps is written in place, with nothing pending.
+  Buffer mapped = createBuffer(ctx, b.size() * 4);
+  if (mapped.mapped) {
+    stageUpload(ctx, u, mapped, b.data(), b.size() * 4);
+    CHECK(u.pending.empty());
+    CHECK(downloadVector<float>(ctx, mapped, b.size()) == b);
+  }
+  // Growing the area under a pending copy would hand the copy a freed buffer: refused.
+  stageUpload(ctx, u, bb, b.data(), b.size() * 4);
+  CHECK_THROWS_AS(reserveUploads(ctx, u, {u.area.size * 2}), Error);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdFlushUploads(cb, u); });
+}
+
 namespace {
 // The two dispatches the timer case stamps: "big" (all 2^20 elements), then "small" (64).
 // Returns the submission's wall time in milliseconds; y = x + 1 afterwards.

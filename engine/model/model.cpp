@@ -136,18 +136,21 @@ std::vector<double> viewWeights(const Model& m, const std::vector<View>& views) 
   return w;
 }
 
-void anchorMeanHeight(Model& m, const std::vector<double>& weights) {
-  if (!m.config.anchorMeanHeight || !m.height || !m.surface) return;
-  WaterSurface& ws = *m.surface;
-  std::vector<float> heights = downloadVector<float>(*m.ctx, ws.gridHeights, ws.gridPointCount);
+double meanHeightShift(const Model& m, const std::vector<float>& heights, const std::vector<double>& weights) {
   double sum = 0, total = 0;
   for (size_t k = 0; k < heights.size(); k++)
     if (weights[k] > 0 && std::isfinite(heights[k])) {
       sum += weights[k] * heights[k];
       total += weights[k];
     }
-  if (total == 0) return;
-  double shift = m.config.waterHeight - sum / total;
+  return total == 0 ? 0.0 : m.config.waterHeight - sum / total;
+}
+
+void anchorMeanHeight(Model& m, const std::vector<double>& weights) {
+  if (!m.config.anchorMeanHeight || !m.height || !m.surface) return;
+  WaterSurface& ws = *m.surface;
+  const double shift = meanHeightShift(m, downloadVector<float>(*m.ctx, ws.gridHeights, ws.gridPointCount), weights);
+  if (shift == 0) return;
   m.height->config.initialHeight = float(double(m.height->config.initialHeight) + shift);
   submitAndWait(*m.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, ws, *m.height); });
 }

@@ -103,6 +103,9 @@ std::vector<double> viewWeights(const Model& m, const std::vector<View>& views);
 // low). A function of the weights alone, so a reloaded model recomputes the constant (to float
 // rounding: training reaches it by one shift per surface step).
 void anchorMeanHeight(Model& m, const std::vector<double>& weights);
+// The shift anchorMeanHeight adds to the constant, from the coarse grid's lifted `heights` (0
+// where no weighted height is finite). Training reads the heights its step's submission copied.
+double meanHeightShift(const Model& m, const std::vector<float>& heights, const std::vector<double>& weights);
 
 // The water's heights on an nx x ny grid over the domain, rows along y (water_height.npy's
 // layout, engine/dataset/ground_truth.h); the water height everywhere without water.

@@ -327,9 +327,38 @@ void planeAdamStep(TrainSession& s, double grad) {
 
 }  // namespace
 
+// Records, after a lift of the surface in cb, the copy of its coarse grid's heights to where
+// the host reads them (liftedHeights); call noteLiftedHeights after the submission's wait.
+void cmdCopyLiftedHeights(VkCommandBuffer cb, TrainSession& s) {
+  WaterSurface& ws = *s.model.surface;
+  const VkDeviceSize bytes = VkDeviceSize(ws.gridPointCount) * 4;
+  if (!s.water.liftedHeights.buffer || s.water.liftedHeights.size < bytes)
+    s.water.liftedHeights = createBuffer(*s.model.ctx, bytes, 0, MemoryUse::Readback);
+  cmdBarrier(cb);
+  cmdCopyToHost(cb, ws.gridHeights, 0, s.water.liftedHeights, 0, bytes);
+}
+void noteLiftedHeights(TrainSession& s) { s.water.liftedHeightsVersion = s.model.surface->heightsVersion; }
+
+// The surface's coarse grid heights as lifted now: the copy its last lift left the host, or a
+// download where that lift made none (a restart's sweep, a loaded checkpoint).
+std::vector<float> liftedGridHeights(TrainSession& s) {
+  WaterSurface& ws = *s.model.surface;
+  if (s.water.liftedHeightsVersion != ws.heightsVersion) return downloadVector<float>(*s.model.ctx, ws.gridHeights, ws.gridPointCount);
+  const float* mapped = static_cast<const float*>(s.water.liftedHeights.mapped);
+  return std::vector<float>(mapped, mapped + ws.gridPointCount);
+}
+
 void anchorMeanHeight(TrainSession& s) {
   if (!s.model.config.anchorMeanHeight || !s.model.height || !s.model.surface) return;
-  anchorMeanHeight(s.model, trainViewWeights(s));
+  const double shift = meanHeightShift(s.model, liftedGridHeights(s), trainViewWeights(s));
+  if (shift == 0) return;
+  HeightField& hf = *s.model.height;
+  hf.config.initialHeight = float(double(hf.config.initialHeight) + shift);
+  submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) {
+    cmdUpdateSurface(cb, *s.model.surface, hf);
+    cmdCopyLiftedHeights(cb, s);
+  });
+  noteLiftedHeights(s);
 }
 
 namespace {
@@ -353,7 +382,7 @@ GridLayout coarseGridLayout(const TrainSession& s) {
 void computeSurfacePrior(TrainSession& s) {
   WaterSurface& ws = *s.model.surface;
   const GridLayout g = coarseGridLayout(s);
-  std::vector<float> heights = downloadVector<float>(*s.model.ctx, ws.gridHeights, ws.gridPointCount);
+  std::vector<float> heights = liftedGridHeights(s);
   s.water.priorGrad.assign(heights.size(), 0.0f);
   s.water.priorEnergy = 0;
   if (s.model.config.surfaceSmoothness > 0) s.water.priorEnergy += slopePrior(heights, g, s.model.config.surfaceSmoothness, &s.water.priorGrad);
@@ -441,16 +470,20 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
       if (masked) f.weight[i] = w;
       for (int ch = 0; ch < 3; ch++) f.target[3 * i + ch] = w * view.image.at(int(b.x0 + x), int(b.y0 + y), ch);
     }
-  upload(ctx, s.buffers.target, f.target.data(), f.target.size() * 4);
-  if (masked) upload(ctx, s.buffers.pixelWeights, f.weight.data(), f.weight.size() * 4);
+  // Copied at the head of the first submission below (cameraRays): no submission of their own.
+  RecordedUploads& uploads = s.buffers.uploads;
+  reserveUploads(ctx, uploads, {f.target.size() * 4, f.weight.size() * 4, pixelList.size() * 4});
+  stageUpload(ctx, uploads, s.buffers.target, f.target.data(), f.target.size() * 4);
+  if (masked) stageUpload(ctx, uploads, s.buffers.pixelWeights, f.weight.data(), f.weight.size() * 4);
   const Buffer* weights = masked ? &s.buffers.pixelWeights : nullptr;
-  if (b.patch) upload(ctx, s.buffers.pixels, pixelList.data(), pixelList.size() * 4);
+  if (b.patch) stageUpload(ctx, uploads, s.buffers.pixels, pixelList.data(), pixelList.size() * 4);
 
   prepareImageLossScratch(ctx, s.buffers.lossScratch, b.width, b.height, 3);
 
   // One submission from the camera rays to the loss's gradient (and `then`), the surface
   // trace's level submissions in between: the stages hand their buffers on on the device.
   auto cameraRays = [&](VkCommandBuffer cb) {
+    cmdFlushUploads(cb, uploads);
     if (b.patch)
       cmdCameraRaysForPixels(cb, s.model.rayPipelines, cam, s.buffers.pixels, n, s.model.rays, 0.0f, 1e6f);
     else
@@ -512,9 +545,8 @@ bool surfaceStepAt(const TrainSession& s, int t) {
 // camera, or not finite. A diverged surface (too fast a learning rate) otherwise trains on
 // with every ray missing it and ends as a normal run.
 void requireSurfaceInScene(TrainSession& s, int t) {
-  WaterSurface& ws = *s.model.surface;
   const std::vector<double>& weights = trainViewWeights(s);
-  const std::vector<float> heights = downloadVector<float>(*s.model.ctx, ws.gridHeights, ws.gridPointCount);
+  const std::vector<float> heights = liftedGridHeights(s);
   double low = INFINITY, high = -INFINITY;
   bool finite = true;
   for (size_t k = 0; k < heights.size(); k++)
@@ -572,7 +604,9 @@ void surfaceStep(TrainSession& s, int t) {
       profileStage(cb, ctx, "water adam");
       s.model.height->config.encodingWindow = encodingWindowAfterStep(s.model.config, t, surfaceBatchSteps(s));
       cmdUpdateSurface(cb, ws, *s.model.height);
+      cmdCopyLiftedHeights(cb, s);
     });
+    noteLiftedHeights(s);
     HostStage h(ctx, "water anchor (host)");
     anchorMeanHeight(s);
   } else {

@@ -81,6 +81,11 @@ struct WaterLearning {
   // --anchor-mean-height, --level-prior and the divergence check: each coarse grid slot's
   // weight (viewWeights over the training views, computed on first use per surface grid).
   std::vector<double> viewWeights;
+  // The coarse grid's heights as the surface step's own submissions lift them, copied in those
+  // submissions to where the host reads them after its wait: the anchor, the priors and the
+  // divergence check read them there, with no download of their own (issue 48).
+  Buffer liftedHeights;                // MemoryUse::Readback, the surface's gridPointCount floats
+  uint64_t liftedHeightsVersion = 0;   // the surface's heightsVersion they hold (0: none)
 };
 
 // The step's device buffers for up to `capacity` rays (the model's own ray buffers:
@@ -92,6 +97,7 @@ struct StepBuffers {
   ImageLossScratch lossScratch;
   Buffer pixels, rendered, target, lossGrad, lossResult, dLoss, grads, stats, rayGrads;
   Buffer pixelWeights;    // the batch's mask (1: the pixel counts), for masked views
+  RecordedUploads uploads;  // the batch's target, mask and pixel list, copied in its first submission
   Buffer densityPartials, densityResult;  // the density regulariser's partial sums and value (engine/loss/image_loss.h)
   // The step's scalars where the host reads them after its wait with no submission of their
   // own (a discrete GPU's download is one): [0] the image loss, [1] the density regulariser.

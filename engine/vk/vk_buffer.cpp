@@ -151,4 +151,44 @@ void fillBuffer(Context& ctx, Buffer& dst, uint32_t word) {
   submitAndWait(ctx, [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, dst.buffer, 0, VK_WHOLE_SIZE, word); });
 }
 
+void stageUpload(Context& ctx, RecordedUploads& u, Buffer& dst, const void* data, VkDeviceSize bytes) {
+  if (bytes > dst.size) fail("upload past the end of a buffer");
+  if (bytes == 0) return;
+  if (dst.mapped) {
+    std::memcpy(dst.mapped, data, bytes);
+    return;
+  }
+  const VkDeviceSize from = (u.used + 15) & ~VkDeviceSize(15);
+  if (from + bytes > u.area.size) {
+    if (!u.pending.empty()) fail("stageUpload: the upload area must grow while copies from it are pending (reserveUploads first)");
+    reserveUploads(ctx, u, {bytes});
+    return stageUpload(ctx, u, dst, data, bytes);
+  }
+  std::memcpy(static_cast<char*>(u.area.mapped) + from, data, bytes);
+  u.pending.push_back({dst.buffer, from, bytes});
+  u.used = from + bytes;
+}
+
+void reserveUploads(Context& ctx, RecordedUploads& u, std::initializer_list<VkDeviceSize> sizes) {
+  VkDeviceSize need = 0;
+  for (VkDeviceSize b : sizes) need += (b + 15) & ~VkDeviceSize(15);
+  if (need <= u.area.size) return;
+  if (!u.pending.empty()) fail("reserveUploads: the upload area cannot grow while copies from it are pending");
+  VkDeviceSize size = VkDeviceSize(1) << 16;
+  while (size < need) size *= 2;
+  u.area = createBuffer(ctx, size, 0, MemoryUse::Readback);  // host-visible and coherent
+  u.used = 0;
+}
+
+void cmdFlushUploads(VkCommandBuffer cb, RecordedUploads& u) {
+  if (u.pending.empty()) return;
+  for (const RecordedUploads::Copy& c : u.pending) {
+    VkBufferCopy region{c.from, 0, c.bytes};
+    vkCmdCopyBuffer(cb, u.area.buffer, c.dst, 1, &region);
+  }
+  cmdBarrier(cb);
+  u.pending.clear();
+  u.used = 0;
+}
+
 }  // namespace refrax

@@ -4,6 +4,7 @@
 #include <volk.h>
 
 #include <cstddef>
+#include <initializer_list>
 #include <vector>
 
 namespace refrax {
@@ -45,6 +46,29 @@ constexpr VkBufferUsageFlags kIndirectArgs = VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT
 void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
 void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
 void fillBuffer(Context& ctx, Buffer& dst, uint32_t word);  // every 32-bit word set to `word`
+
+// Uploads recorded into a command buffer instead of submitted on their own: on a device the host
+// cannot map (a discrete GPU), each upload() is a submission of its own; a training step's
+// batch (its target pixels, mask and pixel list) goes instead through this host-visible area,
+// and its copies run at the head of the step's own command buffer (issue 48). Where the host
+// maps the destination (lavapipe, integrated GPUs) the data is written in place.
+struct RecordedUploads {
+  struct Copy {
+    VkBuffer dst;
+    VkDeviceSize from, bytes;
+  };
+  Buffer area;  // host-visible, mapped
+  VkDeviceSize used = 0;
+  std::vector<Copy> pending;
+};
+// Writes `bytes` of data for dst: in place, or into the area with its copy pending. The area
+// grows only while no copy is pending (a copy reads it when its command buffer runs).
+void stageUpload(Context& ctx, RecordedUploads& u, Buffer& dst, const void* data, VkDeviceSize bytes);
+// Grows the area (no copy pending) to hold uploads of these sizes, each 16-byte aligned.
+void reserveUploads(Context& ctx, RecordedUploads& u, std::initializer_list<VkDeviceSize> sizes);
+// Records the pending copies and a barrier after them (nothing when none is pending); the
+// area is free again once cb has run.
+void cmdFlushUploads(VkCommandBuffer cb, RecordedUploads& u);
 
 template <typename T>
 Buffer createBufferFrom(Context& ctx, const std::vector<T>& data, VkBufferUsageFlags extraUsage = 0) {
