@@ -3,13 +3,15 @@
 # nerfrac-primary-sine (392 x 392 px, 8 views),
 #   1. training: whole-image steps at the reference settings (--recipe reference: the paper's
 #      schedule, the issue's figures) with --profile: steps per second, milliseconds per step,
-#      the host's milliseconds and share of a step, submits and dispatches per step;
+#      the host's milliseconds and share of a step, submits and dispatches per step; on a CPU
+#      device (lavapipe maps device memory: its transfers cost no submission) the same run again
+#      with REFRAX_FORCE_STAGING=1, for the submissions a discrete GPU would count;
 #   2. rendering: `refrax render --benchmark` of the test view at 392 x 392 after that
 #      training: the frame, its stages and the Gaussian trace alone for the same rays;
 #   3. the viewer: `refrax-view --frames --benchmark` at 392 x 392, 1280 x 720 and 1920 x 1080
 #      under xvfb-run (skipped without it), the baked water, tiled trace (its defaults).
 # Writes DIR/<device>.txt (the lines quoted) and DIR/<device>.json. Time: a few minutes on a
-# GPU; on this 2-core lavapipe machine about 10 minutes at --steps 40.
+# GPU; on this 2-core lavapipe machine about 15 minutes at --steps 40.
 # Usage: bench/gpu-speed.sh [--steps N] [--frames N] [--out DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -55,6 +57,14 @@ json.dump(row, open(sys.argv[2], 'w'), indent=2)
 print('training: %.2f steps/s, %.2f ms per step, host %.2f ms (%.0f%%), %.2f submits and %.1f dispatches per step' %
       (row['steps_per_second'], wall, host, 100 * row['host_share'], row['submits_per_step'], row['dispatches_per_step']))
 PY
+
+# Lavapipe (and an integrated GPU) maps device memory, so its transfers cost no submission; a
+# discrete GPU's each cost one. The same run with REFRAX_FORCE_STAGING=1 counts them as it would.
+if echo "$device" | grep -q "(CPU)"; then
+  REFRAX_FORCE_STAGING=1 "$REFRAX" train "$work/data" -o "$work/run-staged" --recipe reference --steps "$steps" --patch 0 --checkpoint-every 0 \
+    --progress-every 100000 --profile >"$work/train-staged.log" 2>&1 || { tail -n 5 "$work/train-staged.log" >&2; echo "gpu-speed: staged training failed" >&2; exit 1; }
+  note "training, transfers staged as on a discrete GPU (REFRAX_FORCE_STAGING=1): $(grep -m 1 '^profile:' "$work/train-staged.log" | sed 's/.*), //')"
+fi
 
 "$REFRAX" render "$work/run" -o "$work/render" --split test --benchmark 5 >"$work/render.log" 2>&1 ||
   { tail -n 5 "$work/render.log" >&2; echo "gpu-speed: render failed" >&2; exit 1; }
