@@ -52,19 +52,11 @@ AnalyticPush analyticPush(const AnalyticHeightField& field, uint32_t count) {
 }  // namespace
 
 HeightSource heightSource(const AnalyticHeightField& field) {
-  HeightSource s;
-  s.evaluate = [&field](VkCommandBuffer cb, const Buffer& points, uint32_t count, Buffer& heights) {
-    if (count == 0) return;
+  return pointwiseHeightSource(field.pipeline, [&field](uint32_t count) {
     const AnalyticPush push = analyticPush(field, count);
-    cmdDispatch(cb, field.pipeline, {bind(points), bind(heights)}, &push, groupsFor(count, 64));
-  };
-  s.evaluateQueued = [&field](VkCommandBuffer cb, const Buffer& points, Buffer& heights, const Buffer& args, VkDeviceSize offset,
-                              uint32_t bound) {
-    const AnalyticPush push = analyticPush(field, bound);
-    cmdDispatchIndirect(cb, field.pipeline, {bind(points), bind(heights)}, &push, args, offset);
-  };
-  s.queuedGroup = 64;
-  return s;
+    const uint8_t* bytes = reinterpret_cast<const uint8_t*>(&push);
+    return std::vector<uint8_t>(bytes, bytes + sizeof push);
+  });
 }
 
 }  // namespace refrax

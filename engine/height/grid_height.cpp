@@ -28,19 +28,14 @@ GridPush gridPush(const GridHeightField& field, uint32_t count) {
 }  // namespace
 
 HeightSource heightSource(const GridHeightField& field) {
-  HeightSource s;
-  s.evaluate = [&field](VkCommandBuffer cb, const Buffer& points, uint32_t count, Buffer& heights) {
-    if (count == 0) return;
-    const GridPush push = gridPush(field, count);
-    cmdDispatch(cb, field.pipeline, {bind(points), bind(heights), bind(field.heights)}, &push, groupsFor(count, 64));
-  };
-  s.evaluateQueued = [&field](VkCommandBuffer cb, const Buffer& points, Buffer& heights, const Buffer& args, VkDeviceSize offset,
-                              uint32_t bound) {
-    const GridPush push = gridPush(field, bound);
-    cmdDispatchIndirect(cb, field.pipeline, {bind(points), bind(heights), bind(field.heights)}, &push, args, offset);
-  };
-  s.queuedGroup = 64;
-  return s;
+  return pointwiseHeightSource(
+      field.pipeline,
+      [&field](uint32_t count) {
+        const GridPush push = gridPush(field, count);
+        const uint8_t* bytes = reinterpret_cast<const uint8_t*>(&push);
+        return std::vector<uint8_t>(bytes, bytes + sizeof push);
+      },
+      &field.heights);
 }
 
 }  // namespace refrax

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace refrax {
 
@@ -33,5 +34,12 @@ struct HeightSource {
   std::function<bool(VkCommandBuffer, const Buffer& points, const Buffer& dLossdHeight, const Buffer& count, uint32_t bound)>
       accumulateQueued;
 };
+
+struct ComputePipeline;
+// A source without parameters whose heights one shader writes point by point, in groups of 64
+// (the closed-form waves, a height grid): bindings points, heights, then `table` where given;
+// push constants pushFor(count) for `count` points. accumulateGradients stays empty.
+HeightSource pointwiseHeightSource(const ComputePipeline& pipeline, std::function<std::vector<uint8_t>(uint32_t count)> pushFor,
+                                   const Buffer* table = nullptr);
 
 }  // namespace refrax
