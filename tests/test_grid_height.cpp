@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "engine/height/grid_height.h"
+#include "engine/loss/metrics.h"
 #include "engine/vk/vk_buffer.h"
 #include "engine/vk/vk_commands.h"
 #include "tests/gpu_test.h"
@@ -22,7 +23,8 @@ GPU_TEST_CASE("grid heights: the device samples a height grid as sampleHeight do
   g.yMax = 0.7;
   std::uniform_real_distribution<double> h(-0.05, 0.05);
   for (int k = 0; k < g.nx * g.ny; k++) g.heights.push_back(h(rng));
-  GridHeightField field = createGridHeightField(ctx, g);
+  const double box[4] = {g.xMin, g.yMin, g.xMax, g.yMax};
+  GridHeightField field = createGridHeightField(ctx, uint32_t(g.nx), uint32_t(g.ny), box, g.heights);
 
   std::uniform_real_distribution<double> x(-1.6, 1.2), y(-0.7, 1.0);  // about a tenth of them outside
   std::vector<float> points;
@@ -55,9 +57,9 @@ GPU_TEST_CASE("grid heights: the device samples a height grid as sampleHeight do
   CHECK(worst <= 1e-6);  // float heights of 0.05 m and float fractions: ~1e-8 measured
   CHECK(std::isnan(out[n - 1]));
 
-  // A grid validateHeightGrid refuses is refused here too, with its reason.
-  HeightGrid one = g;
-  one.ny = 1;
-  one.heights.resize(size_t(one.nx));
-  CHECK_THROWS_AS(createGridHeightField(ctx, one), Error);
+  // Grids it cannot sample are refused: one row, a count that does not match, an empty box.
+  CHECK_THROWS_AS(createGridHeightField(ctx, uint32_t(g.nx), 1, box, std::vector<double>(size_t(g.nx), 0.0)), Error);
+  CHECK_THROWS_AS(createGridHeightField(ctx, uint32_t(g.nx), uint32_t(g.ny), box, std::vector<double>(7, 0.0)), Error);
+  const double empty[4] = {0.5, 0.0, 0.5, 1.0};
+  CHECK_THROWS_AS(createGridHeightField(ctx, uint32_t(g.nx), uint32_t(g.ny), empty, g.heights), Error);
 }

@@ -73,7 +73,10 @@ void initModel(Model& m, Context& ctx, const TrainConfig& config, const Dataset&
   if (config.model == WaterModel::KnownWater) {
     KnownWaterTruth truth = loadKnownWater(dataset);
     if (truth.grid) {
-      m.trueGrid.emplace(createGridHeightField(ctx, std::move(*truth.grid)));
+      const HeightGrid& g = *truth.grid;
+      const double box[4] = {g.xMin, g.yMin, g.xMax, g.yMax};
+      m.trueGrid.emplace(createGridHeightField(ctx, uint32_t(g.nx), uint32_t(g.ny), box, g.heights));
+      m.trueGridHost = std::move(truth.grid);
       truth.waves = AnalyticWaves{};  // the plane unused, at height 0
     }
     m.plane = createAnalyticHeightField(ctx, *truth.waves);
@@ -166,7 +169,7 @@ std::vector<double> sampleWaterHeights(Model& m, uint32_t nx, uint32_t ny) {
   std::vector<double> out(size_t(nx) * ny, m.config.model == WaterModel::FlatWater ? m.planeHeight : m.config.waterHeight);
   if (m.config.model == WaterModel::KnownWater)
     for (size_t k = 0; k < out.size(); k++)
-      out[k] = m.trueGrid ? sampleHeight(m.trueGrid->grid, xy[2 * k], xy[2 * k + 1]) : analyticHeightRef(m.plane.waves, xy[2 * k], xy[2 * k + 1]);
+      out[k] = m.trueGridHost ? sampleHeight(*m.trueGridHost, xy[2 * k], xy[2 * k + 1]) : analyticHeightRef(m.plane.waves, xy[2 * k], xy[2 * k + 1]);
   if (m.height) {
     Context& ctx = *m.ctx;
     Buffer points = createBufferFrom(ctx, xy);

@@ -25,6 +25,7 @@
 #include "engine/height/analytic_height.h"
 #include "engine/height/grid_height.h"
 #include "engine/height/height_field.h"
+#include "engine/loss/metrics.h"
 #include "engine/surface/water_surface.h"
 #include "engine/run/train_config.h"
 
@@ -54,7 +55,8 @@ struct Model {
   std::optional<HeightField> height;
   AnalyticHeightField plane;
   double planeHeight = 0;
-  std::optional<GridHeightField> trueGrid;
+  std::optional<GridHeightField> trueGrid;  // known-water from a height map: on the device,
+  std::optional<HeightGrid> trueGridHost;   // and in double for the host's samples
   std::optional<WaterSurface> surface;
 
   // Rays of one pass (up to `capacity`): from the camera, as they leave the water, the
