@@ -113,4 +113,16 @@ KnownWaterTruth loadKnownWater(const Dataset& d) {
   return truth;
 }
 
+void scaleKnownWater(KnownWaterTruth& truth, double scale) {
+  if (truth.waves)
+    for (auto& wave : truth.waves->waves) wave[0] = float(wave[0] * scale);  // a sine's or a ripple's amplitude
+  if (truth.grid && !truth.grid->heights.empty()) {
+    std::vector<double>& h = truth.grid->heights;
+    double mean = 0;
+    for (double v : h) mean += v;
+    mean /= double(h.size());
+    for (double& v : h) v = mean + scale * (v - mean);
+  }
+}
+
 }  // namespace refrax

@@ -30,5 +30,8 @@ struct KnownWaterTruth {
   std::optional<HeightGrid> grid;
 };
 KnownWaterTruth loadKnownWater(const Dataset& dataset);
+// The relief scaled about the level by `scale` (0: flat): the waves' and ripples' amplitudes
+// (the base kept), or the height map about its mean height.
+void scaleKnownWater(KnownWaterTruth& truth, double scale);
 
 }  // namespace refrax

@@ -72,6 +72,7 @@ void initModel(Model& m, Context& ctx, const TrainConfig& config, const Dataset&
   }
   if (config.model == WaterModel::KnownWater) {
     KnownWaterTruth truth = loadKnownWater(dataset);
+    scaleKnownWater(truth, config.knownWaterScale);
     if (truth.grid) {
       const HeightGrid& g = *truth.grid;
       const double box[4] = {g.xMin, g.yMin, g.xMax, g.yMax};

@@ -113,6 +113,7 @@ void validateTrainConfig(const TrainConfig& c) {
   for (int r : c.schedule.gaussianRestarts) need(r > 0 && r < c.steps, "--restart-gaussians must be steps after the first and before the last");
   need(c.surfaceGate == 0 || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
        "--surface-gate needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
+  need(c.knownWaterScale == 1 || c.model == WaterModel::KnownWater, "--known-water-scale needs --known-water");
   need(!c.waterSignCheck || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
        "--water-sign-check needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
 }

@@ -84,6 +84,10 @@ struct TrainConfig {
   // fit the true water, so what the surface reaches says whether its gradient chain is sound.
   std::string gaussiansFrom;
   bool gaussiansFixed = false;
+  // With KnownWater: the true relief scaled about its level (waves' amplitudes, or a height map
+  // about its mean) by this factor; 1 is the truth. A study of how the loss varies between the
+  // flat start and the truth.
+  double knownWaterScale = 1;
   uint32_t maxGaussians = 1000000;
   double initialDensity = 0.1;
   uint32_t maxShDegree = 3;

@@ -224,6 +224,10 @@ std::vector<TrainOption> makeTable() {
   t.push_back(modelSwitch("flat-water", "comparison: a flat water plane whose only parameter, its height, is learned", WaterModel::FlatWater));
   t.push_back(modelSwitch("known-water", "oracle: the dataset's ground-truth surface (water.json), fixed; only the Gaussians learn",
                           WaterModel::KnownWater));
+  t.push_back(real("known-water-scale", "known_water_scale", "S",
+                   "study: with --known-water, the true water's relief scaled about its level by S (0: flat at the true level); how "
+                   "flat the valley between the flat start and the truth is (docs/experiments/2026-12-05-water-valley.md)",
+                   field(&TrainConfig::knownWaterScale), 0, false, inf, false));
   {
     TrainOption m = row("", "model", "", "the water model (the switches above)");
     m.required = true;

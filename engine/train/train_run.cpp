@@ -201,7 +201,9 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   nlohmann::json evaluations = readEvaluations(runDir, s.model.step - 1);
   evaluations.push_back(evaluationPoint(s, m));
   m["evaluations"] = evaluations;
-  if (watchesSurface(s)) {
+  // The oracle's water is checked too: how much better the views agree through the true water
+  // than through flat water is how well this capture determines its water at all.
+  if (watchesSurface(s) || s.model.config.model == WaterModel::KnownWater) {
     const SweepAgreement a = agreementWithFlatWater(s);
     if (a.cells == 0 || !(a.reference > 0)) {
       // Fewer than the sweep's minimum of views see any cell (two training views, or views that
