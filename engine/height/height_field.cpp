@@ -236,11 +236,13 @@ void uploadWeights(Context& ctx, HeightField& hf, const std::vector<float>& weig
   upload(ctx, hf.weights, weights.data(), weights.size() * sizeof(float));
 }
 
-void mirrorHeightField(Context& ctx, HeightField& hf, double level) {
+void scaleHeightField(Context& ctx, HeightField& hf, double level, double scale) {
   std::vector<float> w = downloadWeights(ctx, hf);
-  for (size_t k = w.size() - hf.config.width; k < w.size(); k++) w[k] = -w[k];  // the output layer: the last `width` floats
+  for (size_t k = w.size() - hf.config.width; k < w.size(); k++) w[k] = float(scale * w[k]);  // the output layer: the last `width` floats
   uploadWeights(ctx, hf, w);
-  hf.config.initialHeight = float(2.0 * level - double(hf.config.initialHeight));
+  hf.config.initialHeight = float(level + scale * (double(hf.config.initialHeight) - level));
 }
+
+void mirrorHeightField(Context& ctx, HeightField& hf, double level) { scaleHeightField(ctx, hf, level, -1.0); }
 
 }  // namespace refrax

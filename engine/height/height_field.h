@@ -111,10 +111,13 @@ double warmUpHeightField(HeightField& hf);
 
 std::vector<float> downloadWeights(Context& ctx, const HeightField& hf);
 void uploadWeights(Context& ctx, HeightField& hf, const std::vector<float>& weights);  // size must match
-// The mirror image of the surface about the level z = `level`: H'(x, y) = 2 level - H(x, y)
-// up to float rounding (the output layer is linear and has no bias: its weights negated, initialHeight
-// reflected). Why: waves learned upside down fit the views almost as well as the right ones
-// (docs/experiments/2026-11-28-upside-down-water.md); training compares the two.
+// The relief scaled about the level z = `level`: H'(x, y) = level + scale (H(x, y) - level) up
+// to float rounding (the output layer is linear and has no bias: its weights scaled, initialHeight
+// moved). Why: the Gaussians absorb a water learned at part of its height, the views' plane
+// sweep does not (docs/experiments/2026-12-05-water-valley.md); training can compare heights.
+void scaleHeightField(Context& ctx, HeightField& hf, double level, double scale);
+// The mirror image about the level (scale -1). Why: waves learned upside down fit the views
+// almost as well as the right ones (docs/experiments/2026-11-28-upside-down-water.md).
 void mirrorHeightField(Context& ctx, HeightField& hf, double level);
 
 // File format (little-endian), written atomically (temp file + rename):

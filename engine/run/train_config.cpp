@@ -114,6 +114,9 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.surfaceGate == 0 || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
        "--surface-gate needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
   need(c.knownWaterScale == 1 || c.model == WaterModel::KnownWater, "--known-water-scale needs --known-water");
+  need(c.sweepLoss == 0 || c.model == WaterModel::Refraction, "--sweep-loss needs a learned water (not --no-refraction, --flat-water or --known-water)");
+  need(!c.waterScaleSearch || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
+       "--water-scale-search needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
   need(!c.waterSignCheck || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
        "--water-sign-check needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
 }

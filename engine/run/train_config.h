@@ -120,6 +120,19 @@ struct TrainConfig {
   // (docs/experiments/2026-11-28-upside-down-water.md). Off by default: a method setting.
   bool waterSignCheck = false;
   // At each --restart-gaussians step, before the Gaussians are drawn afresh, sweep the views
+  // through the learned water's relief scaled about waterHeight by each of kWaterScales and keep
+  // the scale they agree best through (WaterScaleSearch). Why: the Gaussians absorb the warp of
+  // a water learned at part of its height, so the images barely pull it higher; the sweep does
+  // not pass through them, and its cost is least at the true height
+  // (docs/experiments/2026-12-05-water-valley.md). A study option, off.
+  bool waterScaleSearch = false;
+  // Weight of the sweep loss on the height field (engine/train/sweep_loss.h: the training views'
+  // rays against the colour a plane sweep through the same water finds they agree on where they
+  // land), applied at every sweepLossEvery'th surface step, summed as the surface batch's
+  // steps' gradients are; 0: none. A study option.
+  double sweepLoss = 0;
+  int sweepLossEvery = 1;
+  // At each --restart-gaussians step, before the Gaussians are drawn afresh, sweep the views
   // through the learned water and through flat water; when their colours agree less through the
   // learned water (its plane-sweep cost above surfaceGate times the flat water's), the water
   // starts again from its initial state (SurfaceGateCheck). Why: on a top-down rig the surface

@@ -384,6 +384,19 @@ std::vector<TrainOption> makeTable() {
                            "views agree clearly more through it (a plane sweep of each): waves learned upside down fit the views "
                            "nearly as well (docs/training.md)",
                            field(&TrainConfig::waterSignCheck), true));
+  t.push_back(real("sweep-loss", "sweep_loss", "W",
+                   "study: weight of a loss on the water that does not pass through the Gaussians: the training views' rays, "
+                   "refracted by the learned water, against the colour the views agree on where they land (a plane sweep's mean "
+                   "colour at its depth, held fixed) (docs/experiments/2026-12-05-water-valley.md) (0: none)",
+                   field(&TrainConfig::sweepLoss), 0, false, inf, false));
+  t.push_back(integer<int>("sweep-loss-every", "sweep_loss_every", "N", "study: --sweep-loss at every N-th surface step",
+                           field(&TrainConfig::sweepLossEvery), 1, 1000000));
+  t.push_back(switchOption("water-scale-search", "water_scale_search",
+                           "study: at each --restart-gaussians step, the learned water's relief scaled about the water height by the "
+                           "factor among 0, 0.5, 1, 1.5, 2 through which the views agree best (a plane sweep of each; not 1 only when "
+                           "clearly better): the Gaussians absorb a water learned at part of its height, the sweep does not "
+                           "(docs/experiments/2026-12-05-water-valley.md)",
+                           field(&TrainConfig::waterScaleSearch), true));
   t.push_back(real("surface-agreement", "surface_agreement", "P",
                    "the height field's Adam steps scaled by (|m| / sqrt(v))^P, bias-corrected: how consistently its gradients have "
                    "pointed one way; a gradient of noise about zero (views that disagree, Gaussians that absorbed the waves) then "

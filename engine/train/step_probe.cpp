@@ -17,6 +17,8 @@ StepProbe probeStepsForTime(Context& ctx, const TrainConfig& resolved, const Dat
   c.schedule.gaussianRestarts.clear();
   c.surfaceGate = 0;              // (it needs restarts)
   c.waterSignCheck = false;
+  c.waterScaleSearch = false;
+  c.sweepLoss = 0;                // a study's host work, not the step's
   c.initDepth = InitDepth::Box;   // the sweep's time is not the step's
   auto probe = createTrainSession(ctx, c, dataset);
   for (int k = 0; k < kProbeWarmUp; k++) trainStep(*probe);

@@ -127,6 +127,20 @@ std::string signCheckLine(const WaterSignCheck& c) {
   return text;
 }
 
+// The line after a restart step's --water-scale-search.
+std::string scaleSearchLine(const WaterScaleSearch& c) {
+  std::string ratios;
+  for (size_t k = 0; k < c.ratios.size(); k++) {
+    char one[48];
+    std::snprintf(one, sizeof one, "%s%gx: %.3g", k ? ", " : "", kWaterScales[k], c.ratios[k]);
+    ratios += one;
+  }
+  char text[400];
+  std::snprintf(text, sizeof text, "step %d: plane-sweep colour variance through the learned water's relief scaled (%s of the learned's): %gx kept",
+                c.step, ratios.c_str(), c.chosen);
+  return text;
+}
+
 // The line after a restart step's --surface-gate.
 std::string gateLine(const SurfaceGateCheck& c) {
   char text[400];
@@ -233,6 +247,15 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
       return {{"step", c.step}, {"learned_sweep_cost", c.agreement.reference}, {"mirror_sweep_cost", c.agreement.cost},
               {"cells", c.agreement.cells}, {"flat_ratio", ratio(c.flat)}, {"mirrored", c.mirrored}};
     });
+  if (!s.log.sweepLosses.empty())
+    m["sweep_losses"] = jsonRows(s.log.sweepLosses, [&](const RunLog::SweepLossPoint& p) -> nlohmann::json {
+      return {{"step", p.step}, {"per_ray", p.perRay}, {"rays", p.rays}};
+    });
+  if (!s.log.scaleSearches.empty())
+    m["water_scale_searches"] = jsonRows(s.log.scaleSearches, [&](const WaterScaleSearch& c) -> nlohmann::json {
+      return {{"step", c.step}, {"scales", std::vector<double>(std::begin(kWaterScales), std::end(kWaterScales))},
+              {"sweep_ratios", c.ratios}, {"cells", c.cells}, {"chosen", c.chosen}};
+    });
   if (!s.log.gateChecks.empty())
     m["surface_gate_checks"] = jsonRows(s.log.gateChecks, [&](const SurfaceGateCheck& c) -> nlohmann::json {
       return {{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
@@ -276,6 +299,7 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       if (c.initPoints) how += ", " + std::to_string(s.log.gaussiansAtPoints) + " at sparse points";
       if (!s.log.gateChecks.empty() && s.log.gateChecks.back().step == s.model.step) say(gateLine(s.log.gateChecks.back()));
       if (!s.log.signChecks.empty() && s.log.signChecks.back().step == s.model.step) say(signCheckLine(s.log.signChecks.back()));
+      if (!s.log.scaleSearches.empty() && s.log.scaleSearches.back().step == s.model.step) say(scaleSearchLine(s.log.scaleSearches.back()));
       say("step " + std::to_string(s.model.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
     }
     watchLoss += r.imageLoss;

@@ -16,6 +16,7 @@
 #include "engine/train/init_gaussians.h"
 #include "engine/vk/strided_copy.h"
 #include "engine/train/plane_sweep.h"
+#include "engine/train/sweep_loss.h"
 #include "engine/run/train_views.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
@@ -138,17 +139,29 @@ namespace {
 // now (straight for --no-refraction), for the plane sweep; `heights` is the source the surface
 // was lifted from (its subdivision evaluates it).
 // `maxViews` > 0: only that many, spread evenly over the training views (spreadViewIndices).
+// The training views a sweep looks through: all, or `maxViews` > 0 of them spread evenly.
+std::vector<size_t> sweepViewIndices(const TrainSession& s, size_t maxViews) {
+  const size_t n = s.dataset.split("train").size();
+  return spreadViewIndices(n, maxViews > 0 ? std::min(maxViews, n) : n);
+}
+
+// Training view k's rays, one per pixel, into s.model.rays and (through the water) into
+// s.model.refracted with their records; returns their count.
+uint32_t traceViewThroughWater(TrainSession& s, const HeightSource& heights, size_t k) {
+  const View& v = s.dataset.split("train")[k];
+  const uint32_t n = uint32_t(v.camera.width * v.camera.height);
+  ensureRayCapacity(s, n);
+  submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.model.rayPipelines, v.camera, s.model.rays, 0.0f, 1e6f); });
+  if (s.model.surface) traceSurface(*s.model.ctx, *s.model.surface, heights, s.model.rays, n, s.model.refracted, s.model.records);
+  return n;
+}
+
 std::vector<SweepView> sweepViews(TrainSession& s, const HeightSource& heights, size_t maxViews = 0) {
   std::vector<SweepView> views;
   pushWaterGradient(s);  // whole images may not fit the surface's point cache beside the batch's points
-  const std::vector<View>& train = s.dataset.split("train");
-  for (size_t k : spreadViewIndices(train.size(), maxViews > 0 ? std::min(maxViews, train.size()) : train.size())) {
-    const View& v = train[k];
-    uint32_t n = uint32_t(v.camera.width * v.camera.height);
-    ensureRayCapacity(s, n);
-    submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.model.rayPipelines, v.camera, s.model.rays, 0.0f, 1e6f); });
-    if (s.model.surface) traceSurface(*s.model.ctx, *s.model.surface, heights, s.model.rays, n, s.model.refracted, s.model.records);
-    views.push_back({downloadVector<GpuRay>(*s.model.ctx, s.model.surface ? s.model.refracted : s.model.rays, n), &v.image});
+  for (size_t k : sweepViewIndices(s, maxViews)) {
+    const uint32_t n = traceViewThroughWater(s, heights, k);
+    views.push_back({downloadVector<GpuRay>(*s.model.ctx, s.model.surface ? s.model.refracted : s.model.rays, n), &s.dataset.split("train")[k].image});
   }
   return views;
 }
@@ -579,6 +592,38 @@ void requireSurfaceInScene(TrainSession& s, int t) {
   fail(text);
 }
 
+// --sweep-loss: weight * the mean over the sweep views' rays of |I - T(x)|^2 (sweep_loss.h),
+// its dL/d(refracted ray) taken by the surface's backward into the height field's gradient,
+// one view at a time (a whole image's points beside another's may not fit the point cache).
+void addSweepLossGradient(TrainSession& s, int t, double weight) {
+  constexpr size_t kMaxViews = 12;
+  Context& ctx = *s.model.ctx;
+  const HeightSource heights = currentHeightSource(s.model);
+  PlaneSweepConfig pc = boxSweepConfig(s.model.config);
+  const std::vector<SweepView> views = sweepViews(s, heights, kMaxViews);  // the batch's pending gradient pushed first
+  pc.cellSize = sweepCellSize(views, 0.5 * (pc.zMin + pc.zMax));
+  const DepthMap map = planeSweepDepth(views, pc);
+  size_t total = 0;
+  for (const SweepView& v : views) total += v.rays.size();
+  const std::vector<size_t> indices = sweepViewIndices(s, kMaxViews);
+  RunLog::SweepLossPoint point;
+  point.step = t;
+  double loss = 0;
+  for (size_t k = 0; k < views.size(); k++) {
+    std::vector<GpuRayGrad> grads;
+    size_t used = 0;
+    loss += sweepTextureLoss(views[k], map, weight / double(std::max<size_t>(total, 1)), grads, used);
+    point.rays += used;
+    if (used == 0) continue;
+    const uint32_t n = traceViewThroughWater(s, heights, indices[k]);  // the records the backward reads
+    upload(ctx, s.buffers.rayGrads, grads.data(), grads.size() * sizeof(GpuRayGrad));
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBackwardSurfaceToHeights(cb, *s.model.surface, s.model.rays, s.model.records, s.buffers.rayGrads, n); });
+    pushWaterGradient(s);
+  }
+  point.perRay = point.rays > 0 ? loss / double(point.rays) : 0.0;
+  s.log.sweepLosses.push_back(point);
+}
+
 // One surface step at step t: the priors' gradient for the batch's steps, the batch's
 // dL/dheight into the parameters, one Adam step, and the surface lifted again (the next
 // encoding window, the mean height anchored). The heights do not change between surface
@@ -587,6 +632,11 @@ void surfaceStep(TrainSession& s, int t) {
   Context& ctx = *s.model.ctx;
   WaterSurface& ws = *s.model.surface;
   const int batchSteps = std::min(surfaceBatchSteps(s), t - s.model.config.schedule.surfaceFreeze);
+  const int surfaceSteps = (t - s.model.config.schedule.surfaceFreeze) / surfaceBatchSteps(s);
+  if (s.model.config.sweepLoss > 0 && s.model.height && surfaceSteps % s.model.config.sweepLossEvery == 0) {
+    HostStage h(ctx, "sweep loss");
+    addSweepLossGradient(s, t, s.model.config.sweepLoss * double(batchSteps));
+  }
   if (priorOn(s)) {
     HostStage h(ctx, "water prior (host)");
     ensureSurfacePrior(s);
@@ -755,6 +805,47 @@ void checkWaterSign(TrainSession& s, int t) {
   s.log.signChecks.push_back(check);
 }
 
+// --water-scale-search: the learned relief scaled about the water height by the candidate the
+// views agree best through. Adam's first moments are zeroed when the water changes, as the
+// sign check does; the weights of each candidate are set from the learned ones, so a scale of
+// 0 loses nothing.
+DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSweepConfig& pc);  // below
+void searchWaterScale(TrainSession& s, int t) {
+  Context& ctx = *s.model.ctx;
+  HeightField& hf = *s.model.height;
+  const double level = s.model.config.waterHeight;
+  const std::vector<float> learned = downloadWeights(ctx, hf);
+  const float learnedInitial = hf.config.initialHeight;
+  auto setScale = [&](double scale) {
+    uploadWeights(ctx, hf, learned);
+    hf.config.initialHeight = learnedInitial;
+    if (scale != 1.0) scaleHeightField(ctx, hf, level, scale);
+  };
+  WaterScaleSearch search;
+  search.step = t;
+  PlaneSweepConfig pc = boxSweepConfig(s.model.config);
+  const DepthMap reference = sweepThroughWater(s, currentHeightSource(s.model), pc);
+  double best = 1.0, bestRatio = 1.0;
+  search.cells = reference.z.size();
+  for (double scale : kWaterScales) {
+    double ratio = 1.0;
+    if (scale != 1.0) {
+      setScale(scale);
+      const SweepAgreement a = compareSweepCosts(sweepThroughWater(s, currentHeightSource(s.model), pc), reference);
+      ratio = a.cells > 0 && a.reference > 0 ? a.cost / a.reference : INFINITY;
+      search.cells = std::min(search.cells, a.cells);
+    }
+    search.ratios.push_back(ratio);
+    if (ratio < bestRatio) best = scale, bestRatio = ratio;
+  }
+  search.chosen = bestRatio < kWaterScaleBetter ? best : 1.0;
+  setScale(search.chosen);
+  if (search.chosen != 1.0) fillBuffer(ctx, s.water.heightAdam.m, 0);
+  liftSurface(s.model);
+  anchorMeanHeight(s);
+  s.log.scaleSearches.push_back(search);
+}
+
 // --surface-gate: the learned water starts again from flat when the views agree less through
 // it than through flat water. Its Adam's first moments are zeroed (they point the way it ran);
 // the second moments are kept, as the sign check keeps them.
@@ -780,6 +871,7 @@ bool restartStep(TrainSession& s, int t) {
   HostStage h(*s.model.ctx, "restart and plane sweep");
   if (s.model.config.surfaceGate > 0 && s.model.height && waterLearnsAt(s, t)) gateWater(s, t);
   if (s.model.config.waterSignCheck && s.model.height && waterLearnsAt(s, t)) checkWaterSign(s, t);
+  if (s.model.config.waterScaleSearch && s.model.height && waterLearnsAt(s, t)) searchWaterScale(s, t);
   drawGaussians(s);
   return true;
 }

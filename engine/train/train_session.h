@@ -122,6 +122,15 @@ struct WaterSignCheck {
   bool mirrored = false;
 };
 
+// --water-scale-search at a restart of this process: the plane-sweep cost through the learned
+// relief scaled by each of kWaterScales, over the cost at scale 1, and the scale kept.
+struct WaterScaleSearch {
+  int step = 0;
+  std::vector<double> ratios;  // per kWaterScales, cost / the learned water's cost (1 at scale 1)
+  size_t cells = 0;            // the fewest cells a comparison had
+  double chosen = 1;
+};
+
 // --surface-gate at a restart of this process: the learned water's plane-sweep agreement
 // against flat water's, and whether the water started again from flat.
 struct SurfaceGateCheck {
@@ -136,6 +145,14 @@ struct RunLog {
   DensifyStats lastDensify;
   McmcStats lastMcmc;
   std::vector<WaterSignCheck> signChecks;
+  std::vector<WaterScaleSearch> scaleSearches;
+  // --sweep-loss: at each application, the step, the loss per ray that landed, and those rays.
+  struct SweepLossPoint {
+    int step = 0;
+    double perRay = 0;
+    size_t rays = 0;
+  };
+  std::vector<SweepLossPoint> sweepLosses;
   std::vector<SurfaceGateCheck> gateChecks;
   size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
@@ -270,6 +287,10 @@ SweepAgreement agreementOfMirror(TrainSession& session);
 // nearly flat water reads within about 1% of its mirror, and the full-size waves learned
 // upside down 0.32-0.34x (their mirrors, right way up, 2.9-3.1x the other way).
 constexpr double kMirrorBetter = 0.95;
+// --water-scale-search's candidates, and how much better than the learned water's a scale's
+// sweep cost must be to be kept (as a mirror must be, kMirrorBetter).
+constexpr double kWaterScales[] = {0.0, 0.5, 1.0, 1.5, 2.0};
+constexpr double kWaterScaleBetter = kMirrorBetter;
 
 // anchorMeanHeight (engine/model/model.h) over the training views.
 void anchorMeanHeight(TrainSession& session);
