@@ -124,3 +124,30 @@ GPU_TEST_CASE("sweep loss in training: a rough water grows more consistent with 
   MESSAGE("sweep cost against flat water's after 30 steps from a rough water: " << without << " without the sweep loss, " << with << " with it");
   CHECK(with < 0.8 * without);
 }
+
+TEST_CASE("sweep loss: the agreed colours are the mean of each view's mean where enough views land") {
+  DepthMap map = handMap();
+  const std::vector<float> before = map.rgb;
+  // Straight down at (0.05, 0.05): cell (4, 3). View a lands twice there (0.2 and 0.4), view b
+  // once (0.9): the agreed red is (0.3 + 0.9) / 2, not the rays' mean 0.5.
+  auto view = [](std::vector<float> reds) {
+    Image im;
+    im.width = int(reds.size()), im.height = 1, im.channels = 3;
+    for (float r : reds) im.pixels.insert(im.pixels.end(), {r, 0.5f, 0.5f});
+    return im;
+  };
+  GpuRay down{};
+  down.origin[0] = 0.05f, down.origin[1] = 0.05f, down.dir[2] = -1;
+  const Image a = view({0.2f, 0.4f}), b = view({0.9f});
+  AgreedColours colours;
+  addViewColours(SweepView{{down, down}, &a}, map, colours);
+  addViewColours(SweepView{{down}, &b}, map, colours);
+  const size_t cell = 3 * map.cellsX + 4;
+  setAgreedColours(map, colours, 3);  // two views: under the minimum, unchanged
+  CHECK(map.rgb == before);
+  setAgreedColours(map, colours, 2);
+  CHECK(map.rgb[cell * 3] == doctest::Approx(0.6));
+  CHECK(map.rgb[cell * 3 + 1] == doctest::Approx(0.5));
+  for (size_t c = 0; c < before.size() / 3; c++)
+    if (c != cell) CHECK(map.rgb[c * 3] == before[c * 3]);
+}

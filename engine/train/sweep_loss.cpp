@@ -42,6 +42,19 @@ double medianDepth(const DepthMap& map) {
   return z[z.size() / 2];
 }
 
+// Where a ray lands: the plane of the cell it meets at depth z0, then of the cell it meets on
+// that plane; false where it does not point down, starts under the plane, or finds no depth.
+bool landOnMap(const DepthMap& map, double z0, const GpuRay& r, double& z, double& x, double& y) {
+  z = z0;
+  for (int pass = 0; pass < 2; pass++) {
+    if (!std::isfinite(z) || !landAt(r, z, x, y)) return false;
+    const long cell = map.cellAt(x, y);
+    if (cell < 0 || !std::isfinite(map.z[size_t(cell)])) return false;
+    z = map.z[size_t(cell)];
+  }
+  return landAt(r, z, x, y);
+}
+
 }  // namespace
 
 double sweepTextureLoss(const SweepView& view, const DepthMap& map, double weight, std::vector<GpuRayGrad>& grads, size_t& used) {
@@ -52,17 +65,10 @@ double sweepTextureLoss(const SweepView& view, const DepthMap& map, double weigh
   used = 0;
   for (size_t i = 0; i < view.rays.size(); i++) {
     const GpuRay& r = view.rays[i];
-    // the plane of the cell met at the median depth, then of the cell met on that plane
-    double z = z0, x, y;
-    bool ok = std::isfinite(z);
-    for (int pass = 0; ok && pass < 2; pass++) {
-      ok = landAt(r, z, x, y);
-      const long cell = ok ? map.cellAt(x, y) : -1;
-      ok = cell >= 0 && std::isfinite(map.z[size_t(cell)]);
-      if (ok) z = map.z[size_t(cell)];
-    }
+    double z, x, y;
+    if (!landOnMap(map, z0, r, z, x, y)) continue;
     double T[3], dTdx[3], dTdy[3];
-    if (!ok || !landAt(r, z, x, y) || !sampleTexture(map, x, y, T, dTdx, dTdy)) continue;
+    if (!sampleTexture(map, x, y, T, dTdx, dTdy)) continue;
     double gx = 0, gy = 0;  // dLoss/dx, dLoss/dy of this ray
     for (int ch = 0; ch < 3; ch++) {
       const double e = double(im.pixels[i * size_t(im.channels) + ch]) - T[ch];
@@ -82,6 +88,41 @@ double sweepTextureLoss(const SweepView& view, const DepthMap& map, double weigh
     g.dDir[2] += float(weight * -t * gd);
   }
   return loss;
+}
+
+void addViewColours(const SweepView& view, const DepthMap& map, AgreedColours& colours) {
+  const size_t cells = size_t(map.cellsX) * map.cellsY;
+  if (colours.sums.size() != cells * 4) colours.sums.assign(cells * 4, 0.0), colours.viewSums.assign(cells * 4, 0.0);
+  const Image& im = *view.image;
+  const double z0 = medianDepth(map);
+  for (size_t i = 0; i < view.rays.size(); i++) {
+    double z, x, y;
+    if (!landOnMap(map, z0, view.rays[i], z, x, y)) continue;
+    const long cell = map.cellAt(x, y);
+    if (cell < 0) continue;
+    double* v = &colours.viewSums[size_t(cell) * 4];
+    if (v[3] == 0) colours.touched.push_back(uint32_t(cell));
+    for (int ch = 0; ch < 3; ch++) v[ch] += im.pixels[i * size_t(im.channels) + ch];
+    v[3] += 1;
+  }
+  for (uint32_t cell : colours.touched) {
+    double* v = &colours.viewSums[size_t(cell) * 4];
+    double* a = &colours.sums[size_t(cell) * 4];
+    for (int ch = 0; ch < 3; ch++) a[ch] += v[ch] / v[3];
+    a[3] += 1;
+    std::fill(v, v + 4, 0.0);
+  }
+  colours.touched.clear();
+}
+
+void setAgreedColours(DepthMap& map, const AgreedColours& colours, uint32_t minViews) {
+  const size_t cells = size_t(map.cellsX) * map.cellsY;
+  if (colours.sums.size() != cells * 4) return;
+  for (size_t c = 0; c < cells; c++) {
+    const double* a = &colours.sums[c * 4];
+    if (a[3] >= minViews)
+      for (int ch = 0; ch < 3; ch++) map.rgb[c * 3 + ch] = float(a[ch] / a[3]);
+  }
 }
 
 }  // namespace refrax

@@ -25,4 +25,16 @@ namespace refrax {
 // its bilinear sample has no depth counts for nothing.
 double sweepTextureLoss(const SweepView& view, const DepthMap& map, double weight, std::vector<GpuRayGrad>& grads, size_t& used);
 
+// The views' agreed colour per cell at the map's depths, view by view (landing as above): each
+// view's mean colour in a cell, then the mean over the views. Why: between full sweeps, T follows
+// the water at the sweep's depths for the cost of one pass over the rays, not one per plane.
+struct AgreedColours {
+  std::vector<double> viewSums;  // per cell: r, g, b, rays of the view being added
+  std::vector<double> sums;      // per cell: the views' mean r, g, b summed, the views counted
+  std::vector<uint32_t> touched;
+};
+void addViewColours(const SweepView& view, const DepthMap& map, AgreedColours& colours);
+// map.rgb = the agreed colours where at least minViews views reached the cell; elsewhere unchanged.
+void setAgreedColours(DepthMap& map, const AgreedColours& colours, uint32_t minViews);
+
 }  // namespace refrax

@@ -595,31 +595,46 @@ void requireSurfaceInScene(TrainSession& s, int t) {
 // --sweep-loss: weight * the mean over the sweep views' rays of |I - T(x)|^2 (sweep_loss.h),
 // its dL/d(refracted ray) taken by the surface's backward into the height field's gradient,
 // one view at a time (a whole image's points beside another's may not fit the point cache).
+// One pass: each view is traced once, its rays scored against the colours the views agreed on
+// at the last application (T lags one surface step) and their colours gathered for the next;
+// the depths come from a full plane sweep every kSweepDepthEvery applications (a sweep is one
+// pass per plane: 128 where this is one).
 void addSweepLossGradient(TrainSession& s, int t, double weight) {
   constexpr size_t kMaxViews = 12;
+  constexpr int kSweepDepthEvery = 10;
   Context& ctx = *s.model.ctx;
+  WaterLearning& w = s.water;
   const HeightSource heights = currentHeightSource(s.model);
-  PlaneSweepConfig pc = boxSweepConfig(s.model.config);
-  const std::vector<SweepView> views = sweepViews(s, heights, kMaxViews);  // the batch's pending gradient pushed first
-  pc.cellSize = sweepCellSize(views, 0.5 * (pc.zMin + pc.zMax));
-  const DepthMap map = planeSweepDepth(views, pc);
-  size_t total = 0;
-  for (const SweepView& v : views) total += v.rays.size();
+  if (w.sweepMap.z.empty() || w.sweepApplications % kSweepDepthEvery == 0) {
+    PlaneSweepConfig pc = boxSweepConfig(s.model.config);
+    const std::vector<SweepView> views = sweepViews(s, heights, kMaxViews);
+    pc.cellSize = sweepCellSize(views, 0.5 * (pc.zMin + pc.zMax));
+    w.sweepMap = planeSweepDepth(views, pc);
+  }
+  w.sweepApplications++;
+  pushWaterGradient(s);  // the batch's pending gradient first: a whole image's points may not fit the cache beside it
+  const std::vector<View>& train = s.dataset.split("train");
   const std::vector<size_t> indices = sweepViewIndices(s, kMaxViews);
+  size_t total = 0;
+  for (size_t k : indices) total += size_t(train[k].camera.width) * size_t(train[k].camera.height);
+  AgreedColours colours;
   RunLog::SweepLossPoint point;
   point.step = t;
   double loss = 0;
-  for (size_t k = 0; k < views.size(); k++) {
+  for (size_t k : indices) {
+    const uint32_t n = traceViewThroughWater(s, heights, k);
+    const SweepView view{downloadVector<GpuRay>(ctx, s.model.refracted, n), &train[k].image};
     std::vector<GpuRayGrad> grads;
     size_t used = 0;
-    loss += sweepTextureLoss(views[k], map, weight / double(std::max<size_t>(total, 1)), grads, used);
+    loss += sweepTextureLoss(view, w.sweepMap, weight / double(std::max<size_t>(total, 1)), grads, used);
+    addViewColours(view, w.sweepMap, colours);
     point.rays += used;
     if (used == 0) continue;
-    const uint32_t n = traceViewThroughWater(s, heights, indices[k]);  // the records the backward reads
     upload(ctx, s.buffers.rayGrads, grads.data(), grads.size() * sizeof(GpuRayGrad));
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBackwardSurfaceToHeights(cb, *s.model.surface, s.model.rays, s.model.records, s.buffers.rayGrads, n); });
     pushWaterGradient(s);
   }
+  setAgreedColours(w.sweepMap, colours, PlaneSweepConfig{}.minViews);
   point.perRay = point.rays > 0 ? loss / double(point.rays) : 0.0;
   s.log.sweepLosses.push_back(point);
 }

@@ -86,6 +86,10 @@ struct WaterLearning {
   // divergence check read them there, with no download of their own (issue 48).
   Buffer liftedHeights;                // MemoryUse::Readback, the surface's gridPointCount floats
   uint64_t liftedHeightsVersion = 0;   // the surface's heightsVersion they hold (0: none)
+  // --sweep-loss: the last plane sweep's depths, with the colours the views agreed on at the
+  // last application (engine/train/sweep_loss.h), and the applications so far in this process.
+  DepthMap sweepMap;
+  int sweepApplications = 0;
 };
 
 // The step's device buffers for up to `capacity` rays (the model's own ray buffers:
