@@ -75,31 +75,15 @@ void sweepPlane(const std::vector<SweepView>& views, const DepthMap& map, const 
   const size_t cells = size_t(map.cellsX) * map.cellsY, P = c.planes;
   std::fill(w.views.begin(), w.views.end(), 0.0);
   for (const SweepView& v : views) {
-    const Image& im = *v.image;
-    for (size_t i = 0; i < v.rays.size(); i++) {
+    auto cellOf = [&](size_t i) {
       double x, y;
-      if (!rayAtPlane(v.rays[i], z, x, y)) continue;
-      long cell = map.cellAt(x, y);
-      if (cell < 0) continue;
-      double* s = &w.viewSums[size_t(cell) * 4];
-      if (s[3] == 0) w.touched.push_back(uint32_t(cell));
-      for (int ch = 0; ch < 3; ch++) s[ch] += im.pixels[i * size_t(im.channels) + ch];
-      s[3] += 1;
-    }
-    // Only the cells this view reached: a pass over every (cell, view) per plane, zeroing and
-    // reading, took most of a sweep's time (256 x 192 pixels, 12 views, 319^2 cells).
-    for (uint32_t cell : w.touched) {
-      double* s = &w.viewSums[size_t(cell) * 4];
+      return rayAtPlane(v.rays[i], z, x, y) ? map.cellAt(x, y) : -1L;
+    };
+    forEachViewCellMean(v, cellOf, w.viewSums, w.touched, [&](uint32_t cell, const double m[3]) {
       double* a = &w.views[size_t(cell) * 5];
-      for (int ch = 0; ch < 3; ch++) {
-        double m = s[ch] / s[3];
-        a[ch] += m;
-        a[3] += m * m;
-      }
+      for (int ch = 0; ch < 3; ch++) a[ch] += m[ch], a[3] += m[ch] * m[ch];
       a[4] += 1;
-      std::fill(s, s + 4, 0.0);
-    }
-    w.touched.clear();
+    });
   }
   for (size_t cell = 0; cell < cells; cell++) {
     const double* a = &w.views[cell * 5];

@@ -93,26 +93,16 @@ double sweepTextureLoss(const SweepView& view, const DepthMap& map, double weigh
 void addViewColours(const SweepView& view, const DepthMap& map, AgreedColours& colours) {
   const size_t cells = size_t(map.cellsX) * map.cellsY;
   if (colours.sums.size() != cells * 4) colours.sums.assign(cells * 4, 0.0), colours.viewSums.assign(cells * 4, 0.0);
-  const Image& im = *view.image;
   const double z0 = medianDepth(map);
-  for (size_t i = 0; i < view.rays.size(); i++) {
+  auto cellOf = [&](size_t i) {
     double z, x, y;
-    if (!landOnMap(map, z0, view.rays[i], z, x, y)) continue;
-    const long cell = map.cellAt(x, y);
-    if (cell < 0) continue;
-    double* v = &colours.viewSums[size_t(cell) * 4];
-    if (v[3] == 0) colours.touched.push_back(uint32_t(cell));
-    for (int ch = 0; ch < 3; ch++) v[ch] += im.pixels[i * size_t(im.channels) + ch];
-    v[3] += 1;
-  }
-  for (uint32_t cell : colours.touched) {
-    double* v = &colours.viewSums[size_t(cell) * 4];
+    return landOnMap(map, z0, view.rays[i], z, x, y) ? map.cellAt(x, y) : -1L;
+  };
+  forEachViewCellMean(view, cellOf, colours.viewSums, colours.touched, [&](uint32_t cell, const double m[3]) {
     double* a = &colours.sums[size_t(cell) * 4];
-    for (int ch = 0; ch < 3; ch++) a[ch] += v[ch] / v[3];
+    for (int ch = 0; ch < 3; ch++) a[ch] += m[ch];
     a[3] += 1;
-    std::fill(v, v + 4, 0.0);
-  }
-  colours.touched.clear();
+  });
 }
 
 void setAgreedColours(DepthMap& map, const AgreedColours& colours, uint32_t minViews) {
