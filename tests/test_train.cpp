@@ -700,15 +700,23 @@ GPU_TEST_CASE("train: a checkpoint in the middle of a --surface-batch sum resume
   while (second->model.step < 10) trainStep(*second);
 
   // The same surface steps on the same sums: the weights agree up to the float-atomic sums'
-  // order (1e-7 to 3e-5 here, the most with other work on the machine: Adam amplifies the
-  // order's noise in the first steps). Without the sum in the checkpoint, step 8 loses two of
-  // its four gradients and the weights move by about the learning rate (1.04-1.06e-2, planted).
+  // order. Adam amplifies that order's noise where a weight's gradient is near zero (its step
+  // is about the learning rate whatever the gradient's size), so the largest difference ranged
+  // 1e-7 to 1.7e-3 here (the most with other work on the machine), and the RMS over the
+  // weights is what the check reads. Without the sum in the checkpoint, step 8 loses two of its
+  // four gradients and the weights move by about the learning rate (planted: RMS 4.5-5.4e-3,
+  // largest 1.09e-2).
   std::vector<float> a = downloadWeights(ctx, *whole->model.height), b = downloadWeights(ctx, *second->model.height);
   REQUIRE(a.size() == b.size());
-  double most = 0;
-  for (size_t i = 0; i < a.size(); i++) most = std::max(most, std::abs(double(a[i]) - b[i]));
-  MESSAGE("largest weight difference " << most << " (learning rate " << c.surfaceLearningRate << ")");
-  CHECK(most < 0.05 * c.surfaceLearningRate);
+  double most = 0, squares = 0;
+  for (size_t i = 0; i < a.size(); i++) {
+    const double d = std::abs(double(a[i]) - b[i]);
+    most = std::max(most, d);
+    squares += d * d;
+  }
+  const double rms = std::sqrt(squares / double(a.size()));
+  MESSAGE("weight difference: RMS " << rms << ", largest " << most << " (learning rate " << c.surfaceLearningRate << ")");
+  CHECK(rms < 0.05 * c.surfaceLearningRate);
 }
 
 // A surface prior's weight: config.json keeps the run's value (and 0 for the run without it),
