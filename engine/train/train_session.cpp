@@ -135,10 +135,11 @@ void syncGaussians(TrainSession& s, bool countChanged) {
 
 namespace {
 
-// Every training view's rays, one per pixel, as they leave the water as the surface is lifted
-// now (straight for --no-refraction), for the plane sweep; `heights` is the source the surface
-// was lifted from (its subdivision evaluates it).
-// `maxViews` > 0: only that many, spread evenly over the training views (spreadViewIndices).
+// The views a check's or the sweep loss's plane sweep looks through at most: the sweep's time
+// grows with views x pixels x planes; a capture of a hundred views checks through twelve (the
+// synthetic rigs have 8 to 25).
+constexpr size_t kMaxSweepViews = 12;
+
 // The training views a sweep looks through: all, or `maxViews` > 0 of them spread evenly.
 std::vector<size_t> sweepViewIndices(const TrainSession& s, size_t maxViews) {
   const size_t n = s.dataset.split("train").size();
@@ -156,6 +157,10 @@ uint32_t traceViewThroughWater(TrainSession& s, const HeightSource& heights, siz
   return n;
 }
 
+// Every training view's rays, one per pixel, as they leave the water as the surface is lifted
+// now (straight for --no-refraction), for the plane sweep; `heights` is the source the surface
+// was lifted from (its subdivision evaluates it).
+// `maxViews` > 0: only that many, spread evenly over the training views (spreadViewIndices).
 std::vector<SweepView> sweepViews(TrainSession& s, const HeightSource& heights, size_t maxViews = 0) {
   std::vector<SweepView> views;
   pushWaterGradient(s);  // whole images may not fit the surface's point cache beside the batch's points
@@ -592,6 +597,9 @@ void requireSurfaceInScene(TrainSession& s, int t) {
   fail(text);
 }
 
+// The plane sweep through the water lifted from `heights` (sweepThroughWater, below).
+DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSweepConfig& pc);
+
 // --sweep-loss: weight * the mean over the sweep views' rays of |I - T(x)|^2 (sweep_loss.h),
 // its dL/d(refracted ray) taken by the surface's backward into the height field's gradient,
 // one view at a time (a whole image's points beside another's may not fit the point cache).
@@ -600,21 +608,18 @@ void requireSurfaceInScene(TrainSession& s, int t) {
 // the depths come from a full plane sweep every kSweepDepthEvery applications (a sweep is one
 // pass per plane: 128 where this is one).
 void addSweepLossGradient(TrainSession& s, int t, double weight) {
-  constexpr size_t kMaxViews = 12;
   constexpr int kSweepDepthEvery = 10;
   Context& ctx = *s.model.ctx;
   WaterLearning& w = s.water;
   const HeightSource heights = currentHeightSource(s.model);
   if (w.sweepMap.z.empty() || w.sweepApplications % kSweepDepthEvery == 0) {
     PlaneSweepConfig pc = boxSweepConfig(s.model.config);
-    const std::vector<SweepView> views = sweepViews(s, heights, kMaxViews);
-    pc.cellSize = sweepCellSize(views, 0.5 * (pc.zMin + pc.zMax));
-    w.sweepMap = planeSweepDepth(views, pc);
+    w.sweepMap = sweepThroughWater(s, heights, pc);
   }
   w.sweepApplications++;
   pushWaterGradient(s);  // the batch's pending gradient first: a whole image's points may not fit the cache beside it
   const std::vector<View>& train = s.dataset.split("train");
-  const std::vector<size_t> indices = sweepViewIndices(s, kMaxViews);
+  const std::vector<size_t> indices = sweepViewIndices(s, kMaxSweepViews);
   size_t total = 0;
   for (size_t k : indices) total += size_t(train[k].camera.width) * size_t(train[k].camera.height);
   AgreedColours colours;
@@ -824,7 +829,6 @@ void checkWaterSign(TrainSession& s, int t) {
 // views agree best through. Adam's first moments are zeroed when the water changes, as the
 // sign check does; the weights of each candidate are set from the learned ones, so a scale of
 // 0 loses nothing.
-DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSweepConfig& pc);  // below
 void searchWaterScale(TrainSession& s, int t) {
   Context& ctx = *s.model.ctx;
   HeightField& hf = *s.model.height;
@@ -892,14 +896,12 @@ bool restartStep(TrainSession& s, int t) {
 }
 
 // The plane sweep through the water lifted from `heights` (left lifted from it), on pc's grid;
-// a pc without a cell size gets these views' (so a second sweep compares on the same grid).
-// The sweep's time grows with views x pixels x planes: a capture of a hundred views checks
-// through twelve of them (the synthetic rigs have 8 and 24).
+// a pc without a cell size gets these views' (so a second sweep compares on the same grid),
+// through kMaxSweepViews views at most.
 DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSweepConfig& pc) {
-  constexpr size_t kMaxViews = 12;
   pushWaterGradient(s);
   submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *s.model.surface, heights); });
-  std::vector<SweepView> views = sweepViews(s, heights, kMaxViews);
+  std::vector<SweepView> views = sweepViews(s, heights, kMaxSweepViews);
   if (!(pc.cellSize > 0)) pc.cellSize = sweepCellSize(views, 0.5 * (pc.zMin + pc.zMax));
   return planeSweepDepth(views, pc);
 }
