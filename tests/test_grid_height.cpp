@@ -1,9 +1,11 @@
 // The height-grid source (the known-water oracle's water where it has no closed form) against
 // sampleHeight in double: bilinear inside, clamped to the edge outside, NaN for a point that
-// is not finite.
+// is not finite. And the known water scaled about its level (--known-water-scale).
 #include <cmath>
 #include <limits>
 
+#include "engine/dataset/ground_truth.h"
+#include "engine/height/analytic_height.h"
 #include "engine/height/grid_height.h"
 #include "engine/loss/metrics.h"
 #include "engine/vk/vk_buffer.h"
@@ -62,4 +64,22 @@ GPU_TEST_CASE("grid heights: the device samples a height grid as sampleHeight do
   CHECK_THROWS_AS(createGridHeightField(ctx, uint32_t(g.nx), uint32_t(g.ny), box, std::vector<double>(7, 0.0)), Error);
   const double empty[4] = {0.5, 0.0, 0.5, 1.0};
   CHECK_THROWS_AS(createGridHeightField(ctx, uint32_t(g.nx), uint32_t(g.ny), empty, g.heights), Error);
+}
+
+TEST_CASE("known water scaled: the waves' and ripples' amplitudes, or a height map about its mean; the base kept") {
+  KnownWaterTruth waves;
+  waves.waves = AnalyticWaves{};
+  waves.waves->base = 0.2f;
+  waves.waves->waves[0][0] = 0.01f, waves.waves->waves[0][1] = 3;
+  waves.waves->waves[1][0] = -0.02f, waves.waves->waves[1][1] = 5, waves.waves->sigma[1] = 0.3f;
+  const AnalyticWaves before = *waves.waves;
+  scaleKnownWater(waves, 0.5);
+  for (double x : {-0.3, 0.1, 0.4})
+    CHECK(analyticHeightRef(*waves.waves, x, 0.2) == doctest::Approx(0.2 + 0.5 * (analyticHeightRef(before, x, 0.2) - 0.2)).epsilon(1e-6));
+  KnownWaterTruth grid;
+  grid.grid = HeightGrid{3, 2, 0, 0, 1, 1, {1.0, 2.0, 3.0, 4.0, 5.0, 9.0}};  // mean 4
+  scaleKnownWater(grid, 2.0);
+  CHECK(grid.grid->heights == std::vector<double>{-2.0, 0.0, 2.0, 4.0, 6.0, 14.0});
+  scaleKnownWater(grid, 0.0);
+  CHECK(grid.grid->heights == std::vector<double>(6, 4.0));
 }

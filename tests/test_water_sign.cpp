@@ -4,6 +4,7 @@
 // NeRFrac-like preset with its height field fitted directly to the true waves or to their mirror.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -113,6 +114,65 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
     for (size_t k = 0; k < before.size(); k++) CHECK(after[k] == doctest::Approx(2 * level - before[k]).epsilon(1e-6).scale(1e-6));
     mirrorHeightField(ctx, *s->model.height, level);
     CHECK(downloadWeights(ctx, *s->model.height) == weights);
+  }
+
+  SUBCASE("scaling the relief: H' = level + S (H - level), and S = 0 flat at the level") {
+    auto s = createTrainSession(ctx, c, d);
+    s->model.height->config.initialHeight = float(level + 0.01);
+    const std::vector<double> before = sampleWaterHeights(s->model, 24, 24);
+    const std::vector<float> weights = downloadWeights(ctx, *s->model.height);
+    const float initialHeight = s->model.height->config.initialHeight;
+    for (double scale : {0.5, 2.0, 0.0}) {
+      uploadWeights(ctx, *s->model.height, weights);
+      s->model.height->config.initialHeight = initialHeight;
+      const double about = level + 0.05;  // a level of its own: the preset's water is at z = 0
+      scaleHeightField(ctx, *s->model.height, about, scale);
+      const std::vector<double> after = sampleWaterHeights(s->model, 24, 24);
+      CAPTURE(scale);
+      for (size_t k = 0; k < before.size(); k++)
+        CHECK(after[k] == doctest::Approx(about + scale * (before[k] - about)).epsilon(1e-6).scale(1e-6));
+    }
+  }
+
+  SUBCASE("--water-scale-search: the scale the views agree best through is kept when clearly better, else the water as learned") {
+    c.waterScaleSearch = true;
+    c.surfaceBatch = 1000;  // no surface step at step 1: what the restart finds is what was fitted
+    // Waves three times too high and shifted by a quarter period: wrong water the sweep sees.
+    auto wrong = [&](double x, double y) {
+      AnalyticWaves w = waves;
+      for (auto& k : w.waves) k[0] *= 3, k[3] += 1.5707963f;
+      return analyticHeightRef(w, x, y);
+    };
+    auto s = createTrainSession(ctx, c, d);
+    fitHeightField(ctx, *s, wrong);
+    const std::vector<double> fitted = sampleWaterHeights(s->model, 24, 24);
+    CHECK(trainStep(*s).restarted);
+    REQUIRE(s->log.scaleSearches.size() == 1);
+    const WaterScaleSearch& w = s->log.scaleSearches[0];
+    REQUIRE(w.ratios.size() == std::size(kWaterScales));
+    CHECK(w.ratios[2] == 1.0);  // the learned water against itself
+    MESSAGE("wrong waves, sweep cost at 0, 0.5, 1, 1.5, 2x the learned height: " << w.ratios[0] << ", " << w.ratios[1] << ", 1, "
+                                                                                << w.ratios[3] << ", " << w.ratios[4] << "; kept " << w.chosen << "x");
+    const size_t best = size_t(std::min_element(w.ratios.begin(), w.ratios.end()) - w.ratios.begin());
+    REQUIRE(w.ratios[best] < kWaterScaleBetter);  // this water is clearly beaten
+    CHECK(w.chosen == kWaterScales[best]);
+    CHECK(w.chosen < 1.0);
+    // the kept relief is the fitted one scaled (up to the anchor's uniform shift)
+    const std::vector<double> kept = sampleWaterHeights(s->model, 24, 24);
+    double fittedMean = 0, keptMean = 0;
+    for (size_t k = 0; k < kept.size(); k++) fittedMean += fitted[k] / double(kept.size()), keptMean += kept[k] / double(kept.size());
+    for (size_t k = 0; k < kept.size(); k++)
+      CHECK(kept[k] - keptMean == doctest::Approx(w.chosen * (fitted[k] - fittedMean)).scale(1e-4));
+
+    // A nearly flat water: every scale reads about alike, none clearly better, the weights kept.
+    c.mlpInitRange = 1e-7;
+    auto flat = createTrainSession(ctx, c, d);
+    const std::vector<float> weights = downloadWeights(ctx, *flat->model.height);
+    CHECK(trainStep(*flat).restarted);
+    REQUIRE(flat->log.scaleSearches.size() == 1);
+    for (double r : flat->log.scaleSearches[0].ratios) CHECK(r == doctest::Approx(1.0).epsilon(0.03));
+    CHECK(flat->log.scaleSearches[0].chosen == 1.0);
+    CHECK(downloadWeights(ctx, *flat->model.height) == weights);
   }
 
   SUBCASE("the views agree more through the waves than through their mirror; at a restart the check keeps them, and turns "
