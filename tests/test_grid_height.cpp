@@ -66,7 +66,7 @@ GPU_TEST_CASE("grid heights: the device samples a height grid as sampleHeight do
   CHECK_THROWS_AS(createGridHeightField(ctx, uint32_t(g.nx), uint32_t(g.ny), empty, g.heights), Error);
 }
 
-TEST_CASE("known water scaled: the waves' and ripples' amplitudes, or a height map about its mean; the base kept") {
+TEST_CASE("known water scaled: the waves' and ripples' amplitudes, or a height map about its mean, the base kept") {
   KnownWaterTruth waves;
   waves.waves = AnalyticWaves{};
   waves.waves->base = 0.2f;
