@@ -139,8 +139,11 @@ GPU_TEST_CASE("Gaussian forward: the depth at an opacity level is the crossing h
       CHECK(gpu[i].depth == 0.0f);
     }
   }
-  CHECK(reached > 100);
-  CHECK(unreached > 100);
+  // Both kinds occur: over 40 random scenes and levels the fewer was 122-1,378 rays of 1,500,
+  // and 98 once (level 0.35) in a suite run, where a bound of 100 failed; 50 is the check.
+  MESSAGE("reached " << reached << ", unreached " << unreached);
+  CHECK(reached > 50);
+  CHECK(unreached > 50);
   TraceOptions bad;
   bad.depthAtOpacity = 1.0f;
   CHECK_THROWS_WITH_AS(traceGaussians(ctx, tracer, proxies, dev, rays, bad), doctest::Contains("opacity level"), refrax::Error);
