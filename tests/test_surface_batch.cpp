@@ -136,6 +136,90 @@ GPU_TEST_CASE("surface batch: dL/dweights summed over traces and pushed once equ
   }
 }
 
+GPU_TEST_CASE("surface batch: a host grid gradient is added on the device at the head of the next backward or push, with no submission of its own") {
+  // addGridGradient (the water's priors) writes its scaled values where the device reads them;
+  // the next backward or push adds them first. Started with no gradient pending, the sum
+  // clears the stale grid and point gradients before the add; two calls add up.
+  const uint32_t n = 100;
+  HeightField hf = createHeightField(ctx, smallField(), rng());
+  const std::vector<GpuRay> rays = test::raysFromAbove(rng, n, 0.6f);
+  Buffer grads = createBufferFrom(ctx, rayGradients(rng, n));
+  std::normal_distribution<float> N(0, 1);
+  auto gridVector = [&](size_t count) {
+    std::vector<float> v(count);
+    for (float& x : v) x = N(rng);
+    return v;
+  };
+  auto maxDifference = [](const std::vector<float>& a, const std::vector<double>& b) {
+    double d = 0;
+    for (size_t i = 0; i < a.size(); i++) d = std::max(d, std::abs(double(a[i]) - b[i]));
+    return d;
+  };
+
+  // The backward's own grid gradient, alone (the reference for the sums below).
+  WaterSurface alone = createWaterSurface(ctx, smallSurface(n));
+  test::updateSurface(ctx, alone, heightSource(hf));
+  test::SurfaceRun runAlone = test::runSurface(ctx, alone, heightSource(hf), rays);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBackwardSurfaceToHeights(cb, alone, runAlone.rays, runAlone.records, grads, n); });
+  const std::vector<float> backward = downloadVector<float>(ctx, alone.gridGrad, alone.gridPointCount);
+  std::vector<float> backwardPoints = downloadVector<float>(ctx, alone.pointGrad, alone.cachedPoints);
+  std::sort(backwardPoints.begin(), backwardPoints.end());
+  const std::vector<double> sortedBackwardPoints(backwardPoints.begin(), backwardPoints.end());
+  double backwardScale = 0;
+  for (float g : backward) backwardScale = std::max(backwardScale, double(std::abs(g)));
+  REQUIRE(backwardScale > 1e-3);
+
+  for (bool first : {true, false}) {
+    CAPTURE(first);  // the prior added before the batch's backward (a new sum), or after it
+    WaterSurface ws = createWaterSurface(ctx, smallSurface(n));
+    test::updateSurface(ctx, ws, heightSource(hf));
+    fillBuffer(ctx, ws.gridGrad, 0x40e00000u);  // 7.0: stale values a new sum must not keep
+    fillBuffer(ctx, ws.pointGrad, 0x40e00000u);
+    test::SurfaceRun run = test::runSurface(ctx, ws, heightSource(hf), rays);
+    const std::vector<float> a = gridVector(ws.gridPointCount), b = gridVector(ws.gridPointCount);
+    auto backwardOnce = [&] {
+      submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBackwardSurfaceToHeights(cb, ws, run.rays, run.records, grads, n); });
+    };
+    if (!first) backwardOnce();
+    GpuProfiler profiler;
+    attachProfiler(ctx, profiler);
+    addGridGradient(ctx, ws, a, 2.0);
+    addGridGradient(ctx, ws, b, 0.5);
+    const uint64_t submits = profiler.submits;
+    detachProfiler(ctx);
+    CHECK(submits == 0);
+    CHECK(ws.gradientPending);
+    if (first) backwardOnce();
+    else submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdApplyAddedGradient(cb, ws); });
+    CHECK(!ws.addedPending);
+    std::vector<double> expected(ws.gridPointCount);
+    for (size_t i = 0; i < expected.size(); i++) expected[i] = double(backward[i]) + 2.0 * double(a[i]) + 0.5 * double(b[i]);
+    CHECK(maxDifference(downloadVector<float>(ctx, ws.gridGrad, ws.gridPointCount), expected) < 1e-4 * (backwardScale + 4));
+    // The cached points' order is the insertion atomics' (it varies run to run): compared sorted.
+    std::vector<float> points = downloadVector<float>(ctx, ws.pointGrad, ws.cachedPoints);
+    REQUIRE(points.size() == sortedBackwardPoints.size());
+    std::sort(points.begin(), points.end());
+    CHECK(maxDifference(points, sortedBackwardPoints) < 1e-4 * backwardScale);
+  }
+
+  // The push applies it too: a prior alone, pushed, equals the backward of nothing plus it.
+  WaterSurface ws = createWaterSurface(ctx, smallSurface(n));
+  test::updateSurface(ctx, ws, heightSource(hf));
+  fillBuffer(ctx, ws.gridGrad, 0x40e00000u);
+  const std::vector<float> a = gridVector(ws.gridPointCount);
+  addGridGradient(ctx, ws, a, 3.0);
+  Buffer pushed = createBuffer(ctx, hf.parameterCount * 4);
+  fillBuffer(ctx, pushed, 0);
+  pushSurfaceGradients(ctx, ws, heightSource(hf, pushed));
+  CHECK(!ws.gradientPending);
+  std::vector<double> expected(ws.gridPointCount);
+  for (size_t i = 0; i < expected.size(); i++) expected[i] = 3.0 * double(a[i]);
+  CHECK(maxDifference(downloadVector<float>(ctx, ws.gridGrad, ws.gridPointCount), expected) < 1e-5 * 3 * 4);
+  double pushedScale = 0;
+  for (float g : downloadVector<float>(ctx, pushed, hf.parameterCount)) pushedScale = std::max(pushedScale, double(std::abs(g)));
+  CHECK(pushedScale > 1e-3);
+}
+
 GPU_TEST_CASE("surface batch: the push runs on the count the device listed, in one submission, as the count read back") {
   // The points with a gradient are listed on the device; the height backward's chunks then take
   // their group counts from that count (height_grad_groups.comp) with `then` in the same

@@ -170,9 +170,11 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
     {
       // As a discrete GPU counts them (REFRAX_FORCE_STAGING: lavapipe maps device memory, so
       // its transfers cost no submission): the batch's uploads ride in the step's own command
-      // buffer, and the surface step's anchor, priors and divergence check read the heights
-      // its submissions copied. Measured 1.75; 4.2 when each upload and each read of the
-      // heights was a submission of its own.
+      // buffer, the surface step's anchor, priors and divergence check read the heights its
+      // submissions copied, and the priors' gradient is added on the device in the push's
+      // submission (addGridGradient). Measured 1.53; 1.75 when the priors' gradient was read
+      // back and written again, 4.2 when each upload and each read of the heights was a
+      // submission of its own.
       TrainTempDir staged;
       const char* cli = std::getenv("REFRAX_CLI");
       test::CliResult r = test::runShell("REFRAX_FORCE_STAGING=1 " + std::string(cli ? cli : REFRAX_CLI) + " train " +
@@ -180,7 +182,7 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
       INFO(r.output);
       REQUIRE(r.exitCode == 0);
       const double submits = readJson(staged / "run/metrics.json")["profile"]["submits_per_step"].get<double>();
-      CHECK_MESSAGE(submits < 2.0, submits);
+      CHECK_MESSAGE(submits < 1.65, submits);
     }
     CHECK(plain.contains("gaussian proxies"));
     for (auto& [stage, ms] : plain.items()) CHECK_MESSAGE(stage.rfind("water", 0) != 0, stage);  // no water in straight rays

@@ -159,6 +159,7 @@ WaterSurface createWaterSurface(Context& ctx, const WaterSurfaceConfig& config, 
   ws.floatAtomics = ctx.caps.floatAtomicAdd && !forceCasAtomics;
   p.backward = createComputePipeline(ctx, ws.floatAtomics ? "surface_backward" : "surface_backward_cas", {B, B, B, B, B, B, B, B, B}, push);
   p.compact = createComputePipeline(ctx, "surface_compact_gradients", {B, B, B, B, B}, 4);
+  p.addGridGradient = createComputePipeline(ctx, "surface_add_grid_gradient", {B, B}, 4);
   p.pointRange = createComputePipeline(ctx, "surface_point_range", {B, B}, 8);
   p.pointMove = createComputePipeline(ctx, "surface_point_move", {B, B, B, B, B}, 4);
 
@@ -458,6 +459,7 @@ void cmdBackwardSurfaceToHeights(VkCommandBuffer cb, WaterSurface& ws, const Buf
   checkBuffer(rayGrads, VkDeviceSize(count) * sizeof(GpuRayGrad), "ray gradients");
   SurfacePush pc = basePush(ws);
   pc.count = count;
+  cmdApplyAddedGradient(cb, ws);
   if (!ws.gradientPending) {
     vkCmdFillBuffer(cb, ws.gridGrad.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cb, ws.pointGrad.buffer, 0, VK_WHOLE_SIZE, 0);
@@ -474,6 +476,7 @@ void cmdBackwardSurfaceToHeights(VkCommandBuffer cb, WaterSurface& ws, const Buf
 
 void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights) {
   if (!ws.gradientPending) return;
+  cmdApplyAddedGradient(cb, ws);
   if (heights.accumulateGradients) {
     heights.accumulateGradients(cb, ws.gridPoints, ws.gridGrad, ws.gridPointCount);
     if (ws.cachedPoints) heights.accumulateGradients(cb, ws.points, ws.pointGrad, ws.cachedPoints);
@@ -486,12 +489,27 @@ void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightS
 void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g, double scale) {
   if (g.size() != ws.gridPointCount)
     fail("water surface: a grid gradient of " + std::to_string(g.size()) + " values for " + std::to_string(ws.gridPointCount) + " grid points");
-  std::vector<float> sum(g.size(), 0.0f);
-  if (ws.gradientPending) sum = downloadVector<float>(ctx, ws.gridGrad, ws.gridPointCount);
-  else fillBuffer(ctx, ws.pointGrad, 0);
-  for (size_t k = 0; k < g.size(); k++) sum[k] = float(double(sum[k]) + scale * double(g[k]));
-  upload(ctx, ws.gridGrad, sum.data(), sum.size() * sizeof(float));
+  const VkDeviceSize bytes = VkDeviceSize(ws.gridPointCount) * 4;
+  if (!ws.addedGrad.buffer) ws.addedGrad = createBuffer(ctx, bytes, 0, MemoryUse::Readback);
+  float* added = static_cast<float*>(ws.addedGrad.mapped);
+  if (!ws.addedPending) std::fill(added, added + g.size(), 0.0f);
+  for (size_t k = 0; k < g.size(); k++) added[k] = float(double(added[k]) + scale * double(g[k]));
+  if (!ws.addedPending) ws.addedStartsSum = !ws.gradientPending;
+  ws.addedPending = true;
   ws.gradientPending = true;
+}
+
+void cmdApplyAddedGradient(VkCommandBuffer cb, WaterSurface& ws) {
+  if (!ws.addedPending) return;
+  if (ws.addedStartsSum) {
+    vkCmdFillBuffer(cb, ws.gridGrad.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, ws.pointGrad.buffer, 0, VK_WHOLE_SIZE, 0);
+  }
+  cmdBarrier(cb);
+  const uint32_t n = ws.gridPointCount;
+  cmdDispatch(cb, ws.pipelines.addGridGradient, {bind(ws.addedGrad), bind(ws.gridGrad)}, &n, groupsFor(n, 64));
+  cmdBarrier(cb);
+  ws.addedPending = ws.addedStartsSum = false;
 }
 
 void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights, const std::function<void(VkCommandBuffer)>& then) {
@@ -500,7 +518,7 @@ void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& he
   };
   if (!ws.gradientPending) return thenAlone();
   if (!heights.accumulateGradients) {
-    ws.gradientPending = false;
+    ws.gradientPending = ws.addedPending = false;
     return thenAlone();
   }
   // The points with a gradient listed on the device; where the source can run on the count
@@ -510,6 +528,7 @@ void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& he
   bool queued = false;
   ws.gradientPending = false;  // taken by the push below (`then` may update the surface)
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdApplyAddedGradient(cb, ws);
     vkCmdFillBuffer(cb, ws.pushCount.buffer, 0, VK_WHOLE_SIZE, 0);
     cmdBarrier(cb);
     uint32_t n = ws.gridPointCount;

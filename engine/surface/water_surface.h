@@ -65,7 +65,7 @@ struct SurfaceCounters {
 };
 
 struct SurfacePipelines {
-  ComputePipeline gridPoints, gridVertices, globalTrace, requestPoints, subdivide, refract, backward, compact;
+  ComputePipeline gridPoints, gridVertices, globalTrace, requestPoints, subdivide, refract, backward, compact, addGridGradient;
   ComputePipeline heightRange;  // compute trace backend: the proxy mesh's height range for the grid walk
   ComputePipeline pointRange, pointMove;  // the one-submission trace: a level's new points counted and moved on the device
 };
@@ -103,6 +103,11 @@ struct WaterSurface {
   // gridGrad/pointGrad hold dL/dheight that has not reached H's parameters yet
   // (cmdBackwardSurfaceToHeights since the last cmdPushSurfaceGradients).
   bool gradientPending = false;
+  // addGridGradient: the scaled grid gradients the host wrote (host-visible, read by the shader
+  // in place), added on the device at the head of the next submission that uses gridGrad;
+  // addedStartsSum: gridGrad and pointGrad are cleared first (no gradient was pending).
+  Buffer addedGrad;
+  bool addedPending = false, addedStartsSum = false;
   uint64_t heightsVersion = 0;  // a new number (process-wide) at every cmdUpdateSurface
 
   SurfacePipelines pipelines;
@@ -157,8 +162,12 @@ void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightS
 void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights,
                           const std::function<void(VkCommandBuffer)>& then = {});
 // Adds scale * g (one value per coarse grid slot, gridPointCount) to the pending dL/dheight
-// (a prior's gradient), starting a new sum when none is pending.
+// (a prior's gradient), starting a new sum when none is pending. No submission of its own: g is
+// written where the device reads it, and the add is recorded at the head of the next backward
+// or push (cmdApplyAddedGradient); a second call before then adds to the first's.
 void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g, double scale);
+// Records the add addGridGradient left pending (nothing when none is).
+void cmdApplyAddedGradient(VkCommandBuffer cb, WaterSurface& ws);
 // Whether traceSurface of `rays` rays runs as one submission: the source evaluates heights on a
 // count the device wrote (HeightSource::evaluateQueued), and every level's new points fit one
 // dispatch of the device's group-count limit.

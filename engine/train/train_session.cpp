@@ -320,6 +320,7 @@ namespace {
 // the sum of dL/dheight over every lattice point the backward touched.
 double planeHeightGradient(TrainSession& s) {
   WaterSurface& ws = *s.model.surface;
+  if (ws.addedPending) submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) { cmdApplyAddedGradient(cb, ws); });
   SurfaceCounters c = readSurfaceCounters(*s.model.ctx, ws);
   double sum = 0;
   for (float g : downloadVector<float>(*s.model.ctx, ws.gridGrad, ws.gridPointCount))
