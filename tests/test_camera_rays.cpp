@@ -8,6 +8,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "engine/camera/camera_rays.h"
+#include "engine/dataset/view_image.h"
 #include "engine/reference/camera_rays_ref.h"
 #include "engine/vk/vk_commands.h"
 #include "tests/gpu_test.h"
@@ -127,4 +128,45 @@ GPU_TEST_CASE("camera rays through distorted lenses on the device match the doub
     CHECK(worst < 1e-6);
     if (fish && lc.params[0] == 0) CHECK(widest > 89.0 * M_PI / 180);  // the 180-degree lens's rim really was traced
   }
+}
+
+TEST_CASE("a camera and its image downscaled: the coarse pixel's ray is the block centre's, its colour the block's mean") {
+  // The sweep loss traces its views at a coarser level (engine/train/train_session.cpp): each
+  // coarse pixel must look where the centre of its block of full pixels looks, through the
+  // lens too, and carry that block's mean colour.
+  std::mt19937 rng(7);
+  for (LensKind kind : {LensKind::Pinhole, LensKind::RadialTangential, LensKind::Fisheye}) {
+    CAPTURE(int(kind));
+    Camera full = randomCamera(rng, 37, 29);
+    full.lens.kind = kind;
+    if (kind != LensKind::Pinhole) full.lens.radial = glm::dvec4(-0.08, 0.01, 0.002, 0.0);
+    for (int factor : {1, 2, 3}) {
+      CAPTURE(factor);
+      const Camera coarse = downscaledCamera(full, factor);
+      CHECK(coarse.width == 37 / factor);
+      CHECK(coarse.height == 29 / factor);
+      double worst = 0;
+      for (int y = 0; y < coarse.height; y++)
+        for (int x = 0; x < coarse.width; x++) {
+          const glm::dvec3 a = coarse.rayDirection(x + 0.5, y + 0.5), b = full.rayDirection(factor * (x + 0.5), factor * (y + 0.5));
+          worst = std::max(worst, glm::length(a - b));
+        }
+      CHECK(worst < 1e-12);
+    }
+  }
+  Image image;
+  image.width = 5, image.height = 4, image.channels = 2;
+  for (int k = 0; k < 5 * 4 * 2; k++) image.pixels.push_back(float(k * k % 11));
+  const Image half = boxDownscaled(image, 2);
+  REQUIRE(half.width == 2);  // the fifth column cropped
+  REQUIRE(half.height == 2);
+  REQUIRE(half.channels == 2);
+  for (int y = 0; y < 2; y++)
+    for (int x = 0; x < 2; x++)
+      for (int c = 0; c < 2; c++) {
+        const double mean = (image.at(2 * x, 2 * y, c) + image.at(2 * x + 1, 2 * y, c) + image.at(2 * x, 2 * y + 1, c) + image.at(2 * x + 1, 2 * y + 1, c)) / 4.0;
+        CHECK(half.at(x, y, c) == doctest::Approx(mean).epsilon(1e-6));
+      }
+  CHECK(boxDownscaled(image, 1).pixels == image.pixels);
+  CHECK_THROWS_AS(boxDownscaled(image, 0), Error);
 }

@@ -125,6 +125,47 @@ GPU_TEST_CASE("sweep loss in training: a rough water grows more consistent with 
   CHECK(with < 0.8 * without);
 }
 
+GPU_TEST_CASE("sweep loss only: the images' gradient reaches the Gaussians, not the water") {
+  // --sweep-loss-only: with the sweep loss never due in these steps (every millionth surface
+  // step) and no prior or anchor, nothing else may move the water; without the flag the images
+  // move it. The Gaussians learn either way.
+  const std::string data = test::tinyDataset("nerfrac-primary-sine");
+  Dataset d;
+  TrainConfig c = test::sessionConfig(data, 12, 300, 16, 1, d);
+  c.schedule.surfaceFreeze = 0;
+  c.surfaceLearningRate = 3e-3;
+  c.surfaceSmoothness = 0;
+  c.levelPrior = 0;
+  c.anchorMeanHeight = false;
+  c.sweepLoss = 1;
+  c.sweepLossEvery = 1000000;
+  auto largestChange = [](const std::vector<float>& a, const std::vector<float>& b) {
+    double d = 0;
+    for (size_t i = 0; i < a.size(); i++) d = std::max(d, std::abs(double(a[i]) - double(b[i])));
+    return d;
+  };
+  auto changes = [&](bool only) {
+    c.sweepLossOnly = only;
+    validateTrainConfig(c);
+    auto s = createTrainSession(ctx, c, d);
+    const std::vector<float> water = downloadWeights(ctx, *s->model.height);
+    const std::vector<float> gaussians = s->model.gaussians.params;
+    for (int k = 0; k < c.steps; k++) trainStep(*s);
+    pullGaussians(*s);
+    CHECK(s->log.sweepLosses.empty());
+    return std::make_pair(largestChange(downloadWeights(ctx, *s->model.height), water), largestChange(s->model.gaussians.params, gaussians));
+  };
+  const auto [waterWith, gaussiansWith] = changes(false);
+  const auto [waterOnly, gaussiansOnly] = changes(true);
+  MESSAGE("largest water weight change: " << waterWith << " from the images, " << waterOnly << " with --sweep-loss-only");
+  CHECK(waterWith > 1e-4);
+  CHECK(waterOnly == 0);
+  CHECK(gaussiansWith > 1e-4);
+  CHECK(gaussiansOnly > 1e-4);
+  c.sweepLoss = 0;
+  CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--sweep-loss-only needs --sweep-loss"), Error);
+}
+
 TEST_CASE("sweep loss: the agreed colours are the mean of each view's mean where enough views land") {
   DepthMap map = handMap();
   const std::vector<float> before = map.rgb;

@@ -40,7 +40,7 @@ const std::map<std::string, std::pair<std::string, std::string>> kSamples = {
     {"surface-batch", {"views", "0"}}, {"surface-freeze", {"11", "-2"}}, {"surface-until", {"4000", "-2"}}, {"face-normals-until", {"12", "-2"}},
     {"surface-smoothness", {"0.1", "-1"}}, {"level-prior", {"1000", "inf"}}, {"anchor-mean-height", {"", ""}},
     {"water-sign-check", {"", ""}}, {"surface-gate", {"1.05", "-1"}}, {"surface-agreement", {"2", "17"}}, {"level-prior-tilt-only", {"", ""}},
-    {"known-water-scale", {"0.5", "-1"}}, {"sweep-loss", {"1", "-1"}}, {"sweep-loss-every", {"4", "0"}}, {"water-scale-search", {"", ""}},
+    {"known-water-scale", {"0.5", "-1"}}, {"sweep-loss", {"1", "-1"}}, {"sweep-loss-every", {"4", "0"}}, {"sweep-loss-only", {"", ""}}, {"water-scale-search", {"", ""}},
     {"octaves-open-until", {"13", "-2"}}, {"sh-interval", {"14", "-2"}}, {"density-reset-every", {"15", "-2"}},
     {"density-reset-until", {"16", "-2"}}, {"density-decay-every", {"17", "-2"}}, {"densify-from", {"18", "-2"}},
     {"densify-every", {"19", "-2"}}, {"densify-until", {"20", "-2"}}, {"no-densify", {"", ""}},
@@ -60,6 +60,7 @@ TEST_CASE("train options: every flag's value survives config.json, and a bad one
     const std::string name = "--" + o.flag;
     TrainConfig c = resolvedConfig();
     if (o.flag == "known-water-scale") c.model = WaterModel::KnownWater;  // what it needs beside it
+    if (o.flag == "sweep-loss-only") c.sweepLoss = 1;
     const nlohmann::json before = o.get(c);
     o.set(c, o.parse(sample->second.first, name), name);
     CHECK(o.get(c) != before);  // the sample is not the default

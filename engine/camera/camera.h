@@ -33,4 +33,9 @@ struct Camera {
   }
 };
 
+// The camera whose pixel (x, y) is the block of factor x factor pixels at (factor x, factor y)
+// (the remainder columns and rows cropped): the focal lengths and principal point divided by
+// the factor, the lens unchanged (its terms act on normalised coordinates).
+Camera downscaledCamera(const Camera& camera, int factor);
+
 }  // namespace refrax

@@ -53,4 +53,23 @@ Image loadViewMask(const std::string& imagePath, const std::string& masksPath, i
   return mask;
 }
 
+Image boxDownscaled(const Image& image, int factor) {
+  if (factor < 1) fail("boxDownscaled: a factor of " + std::to_string(factor));
+  Image out;
+  out.width = image.width / factor;
+  out.height = image.height / factor;
+  out.channels = image.channels;
+  out.pixels.assign(size_t(out.width) * size_t(out.height) * size_t(out.channels), 0.0f);
+  const double area = double(factor) * double(factor);
+  for (int y = 0; y < out.height; y++)
+    for (int x = 0; x < out.width; x++)
+      for (int c = 0; c < out.channels; c++) {
+        double sum = 0;
+        for (int j = 0; j < factor; j++)
+          for (int i = 0; i < factor; i++) sum += image.at(x * factor + i, y * factor + j, c);
+        out.at(x, y, c) = float(sum / area);
+      }
+  return out;
+}
+
 }  // namespace refrax

@@ -20,6 +20,10 @@ Image loadViewImage(const std::string& path, int expectWidth, int expectHeight, 
 // image's size or leaves no pixel that counts.
 Image loadViewMask(const std::string& imagePath, const std::string& masksPath, int width, int height, const std::string& where);
 
+// The image's mean over blocks of factor x factor pixels (the remainder columns and rows
+// cropped), as downscaledCamera's pixels see it: a coarser level of an image pyramid.
+Image boxDownscaled(const Image& image, int factor);
+
 // The path with its extension replaced by `ending` ("a/b.jpg", "_mask.png" -> "a/b_mask.png").
 std::string replaceExtension(const std::string& path, const std::string& ending);
 

@@ -132,6 +132,10 @@ struct TrainConfig {
   // steps' gradients are; 0: none. A study option.
   double sweepLoss = 0;
   int sweepLossEvery = 1;
+  // The water learns from the sweep loss alone: the images' gradient reaches the Gaussians,
+  // not the water. Why: the images pull the water through Gaussians that absorbed its warp; the
+  // views' agreement does not pass through them. A study option.
+  bool sweepLossOnly = false;
   // At each --restart-gaussians step, before the Gaussians are drawn afresh, sweep the views
   // through the learned water and through flat water; when their colours agree less through the
   // learned water (its plane-sweep cost above surfaceGate times the flat water's), the water

@@ -391,6 +391,10 @@ std::vector<TrainOption> makeTable() {
                    field(&TrainConfig::sweepLoss), 0, false, inf, false));
   t.push_back(integer<int>("sweep-loss-every", "sweep_loss_every", "N", "study: --sweep-loss at every N-th surface step",
                            field(&TrainConfig::sweepLossEvery), 1, 1000000));
+  t.push_back(switchOption("sweep-loss-only", "sweep_loss_only",
+                           "study: with --sweep-loss, the water learns from the sweep loss alone; the images' gradient reaches the "
+                           "Gaussians, not the water (docs/experiments/2026-12-05-water-valley.md)",
+                           field(&TrainConfig::sweepLossOnly), true));
   t.push_back(switchOption("water-scale-search", "water_scale_search",
                            "study: at each --restart-gaussians step, the learned water's relief scaled about the water height by the "
                            "factor among 0, 0.5, 1, 1.5, 2 through which the views agree best (a plane sweep of each; not 1 only when "

@@ -90,6 +90,9 @@ struct WaterLearning {
   // last application (engine/train/sweep_loss.h), and the applications so far in this process.
   DepthMap sweepMap;
   int sweepApplications = 0;
+  // The sweep views at the loss's resolution (downscaledCamera, boxDownscaled): made once.
+  std::vector<Camera> sweepLossCameras;
+  std::vector<Image> sweepLossImages;
 };
 
 // The step's device buffers for up to `capacity` rays (the model's own ray buffers:
