@@ -169,4 +169,5 @@ TEST_CASE("a camera and its image downscaled: the coarse pixel's ray is the bloc
       }
   CHECK(boxDownscaled(image, 1).pixels == image.pixels);
   CHECK_THROWS_AS(boxDownscaled(image, 0), Error);
+  CHECK_THROWS_AS(downscaledCamera(randomCamera(rng, 8, 8), 0), Error);
 }

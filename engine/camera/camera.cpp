@@ -1,8 +1,9 @@
 #include "engine/camera/camera.h"
 
-#include <algorithm>
 #include <cmath>
+#include <string>
 
+#include "engine/base/error.h"
 #include "engine/camera/lens_math.h"
 
 namespace refrax {
@@ -21,14 +22,14 @@ bool Camera::project(const glm::dvec3& p, glm::dvec2& uv) const {
 }
 
 Camera downscaledCamera(const Camera& camera, int factor) {
+  if (factor < 1) fail("downscaledCamera: a factor of " + std::to_string(factor));
   Camera c = camera;
-  const double f = double(std::max(factor, 1));
-  c.fx /= f;
-  c.fy /= f;
-  c.cx /= f;
-  c.cy /= f;
-  c.width = camera.width / std::max(factor, 1);
-  c.height = camera.height / std::max(factor, 1);
+  c.fx /= factor;
+  c.fy /= factor;
+  c.cx /= factor;
+  c.cy /= factor;
+  c.width = camera.width / factor;
+  c.height = camera.height / factor;
   return c;
 }
 

@@ -492,10 +492,12 @@ void addGridGradient(Context& ctx, WaterSurface& ws, const std::vector<float>& g
   const VkDeviceSize bytes = VkDeviceSize(ws.gridPointCount) * 4;
   if (!ws.addedGrad.buffer) ws.addedGrad = createBuffer(ctx, bytes, 0, MemoryUse::Readback);
   float* added = static_cast<float*>(ws.addedGrad.mapped);
-  if (!ws.addedPending) std::fill(added, added + g.size(), 0.0f);
+  if (!ws.addedPending) {
+    std::fill(added, added + g.size(), 0.0f);
+    ws.addedStartsSum = !ws.gradientPending;
+    ws.addedPending = true;
+  }
   for (size_t k = 0; k < g.size(); k++) added[k] = float(double(added[k]) + scale * double(g[k]));
-  if (!ws.addedPending) ws.addedStartsSum = !ws.gradientPending;
-  ws.addedPending = true;
   ws.gradientPending = true;
 }
 

@@ -147,7 +147,7 @@ std::vector<size_t> sweepViewIndices(const TrainSession& s, size_t maxViews) {
   return spreadViewIndices(n, maxViews > 0 ? std::min(maxViews, n) : n);
 }
 
-// Training view k's rays, one per pixel, into s.model.rays and (through the water) into
+// The camera's rays, one per pixel, into s.model.rays and (through the water) into
 // s.model.refracted with their records; returns their count.
 uint32_t traceCameraThroughWater(TrainSession& s, const HeightSource& heights, const Camera& camera) {
   const uint32_t n = uint32_t(camera.width * camera.height);
@@ -155,9 +155,6 @@ uint32_t traceCameraThroughWater(TrainSession& s, const HeightSource& heights, c
   submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, s.model.rayPipelines, camera, s.model.rays, 0.0f, 1e6f); });
   if (s.model.surface) traceSurface(*s.model.ctx, *s.model.surface, heights, s.model.rays, n, s.model.refracted, s.model.records);
   return n;
-}
-uint32_t traceViewThroughWater(TrainSession& s, const HeightSource& heights, size_t k) {
-  return traceCameraThroughWater(s, heights, s.dataset.split("train")[k].camera);
 }
 
 // Every training view's rays, one per pixel, as they leave the water as the surface is lifted
@@ -168,7 +165,7 @@ std::vector<SweepView> sweepViews(TrainSession& s, const HeightSource& heights, 
   std::vector<SweepView> views;
   pushWaterGradient(s);  // whole images may not fit the surface's point cache beside the batch's points
   for (size_t k : sweepViewIndices(s, maxViews)) {
-    const uint32_t n = traceViewThroughWater(s, heights, k);
+    const uint32_t n = traceCameraThroughWater(s, heights, s.dataset.split("train")[k].camera);
     views.push_back({downloadVector<GpuRay>(*s.model.ctx, s.model.surface ? s.model.refracted : s.model.rays, n), &s.dataset.split("train")[k].image});
   }
   return views;
@@ -627,21 +624,18 @@ void addSweepLossGradient(TrainSession& s, int t, double weight) {
   w.sweepApplications++;
   pushWaterGradient(s);  // the batch's pending gradient first: a whole image's points may not fit the cache beside it
   const std::vector<View>& train = s.dataset.split("train");
-  const std::vector<size_t> indices = sweepViewIndices(s, kMaxSweepViews);
-  size_t total = 0;
-  for (size_t k : indices) total += size_t(train[k].camera.width) * size_t(train[k].camera.height);
-  total /= size_t(kSweepLossDownscale * kSweepLossDownscale);
-  if (w.sweepLossCameras.empty()) {
-    for (size_t k : indices) {
+  if (w.sweepLossCameras.empty())
+    for (size_t k : sweepViewIndices(s, kMaxSweepViews)) {
       w.sweepLossCameras.push_back(downscaledCamera(train[k].camera, kSweepLossDownscale));
       w.sweepLossImages.push_back(boxDownscaled(train[k].image, kSweepLossDownscale));
     }
-  }
+  size_t total = 0;  // the rays of every view: the loss is their mean
+  for (const Camera& c : w.sweepLossCameras) total += size_t(c.width) * size_t(c.height);
   AgreedColours colours;
   RunLog::SweepLossPoint point;
   point.step = t;
   double loss = 0;
-  for (size_t v = 0; v < indices.size(); v++) {
+  for (size_t v = 0; v < w.sweepLossCameras.size(); v++) {
     const uint32_t n = traceCameraThroughWater(s, heights, w.sweepLossCameras[v]);
     const SweepView view{downloadVector<GpuRay>(ctx, s.model.refracted, n), &w.sweepLossImages[v]};
     std::vector<GpuRayGrad> grads;
