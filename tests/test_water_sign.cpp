@@ -253,6 +253,65 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
     CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--surface-gate"), Error);
   }
 
+  SUBCASE("--sweep-watch: water the views agree on less than on flat water goes back to the best water of the checks, its "
+          "learning rate halved") {
+    // Waves three times too high and shifted by a quarter period: wrong water the sweep sees.
+    auto wrong = [&](double x, double y) {
+      AnalyticWaves w = waves;
+      for (auto& k : w.waves) k[0] *= 3, k[3] += 1.5707963f;
+      return analyticHeightRef(w, x, y);
+    };
+    c.schedule.gaussianRestarts = {};
+    // Two octaves: the waves fitted with every octave open read 3.1-3.5x flat water's sweep cost
+    // (the fit's wiggles between its points bend the rays), with two 0.55x (the true waves: 0.44x).
+    c.mlpCoarseOctaves = 2;
+    c.sweepWatch = 1;       // a check at every step
+    c.surfaceBatch = 1000;  // and no surface step: each check finds what was fitted
+    const double rate = c.surfaceLearningRate;
+
+    // No water better than flat yet: the wrong waves go back to the flat start.
+    auto s = createTrainSession(ctx, c, d);
+    fitHeightField(ctx, *s, wrong);
+    trainStep(*s);
+    REQUIRE(s->log.watchChecks.size() == 1);
+    const SweepWatchCheck& first = s->log.watchChecks[0];
+    const SweepAgreement& a = first.agreement;
+    MESSAGE("the wrong waves' sweep cost: " << a.cost / a.reference << "x flat water's");
+    CHECK(a.cost > a.reference);
+    CHECK(first.rolledBack);
+    CHECK_FALSE(first.best);
+    CHECK(first.learningRateScale == 0.5);
+    CHECK(s->water.heightAdam.lr.initial == doctest::Approx(0.5 * rate));
+    CHECK(downloadWeights(ctx, *s->model.height) == initialHeightWeights(s->model.height->config, heightFieldSeed(c)));
+
+    // The true waves are the best so far and kept; wrong waves after them go back to them.
+    auto t = createTrainSession(ctx, c, d);
+    fitHeightField(ctx, *t, truth);
+    trainStep(*t);
+    REQUIRE(t->log.watchChecks.size() == 1);
+    const SweepAgreement& b = t->log.watchChecks[0].agreement;
+    MESSAGE("the true waves' sweep cost: " << b.cost / b.reference << "x flat water's");
+    CHECK(b.cost < b.reference);
+    CHECK(t->log.watchChecks[0].best);
+    CHECK_FALSE(t->log.watchChecks[0].rolledBack);
+    const std::vector<double> trueHeights = sampleWaterHeights(t->model, 24, 24);
+    fitHeightField(ctx, *t, wrong);
+    trainStep(*t);
+    REQUIRE(t->log.watchChecks.size() == 2);
+    CHECK(t->log.watchChecks[1].rolledBack);
+    CHECK(correlationWith(*t, truth) > 0.8);
+    const std::vector<double> back = sampleWaterHeights(t->model, 24, 24);
+    double mean = 0, trueMean = 0;  // up to the anchor's uniform shift
+    for (size_t k = 0; k < back.size(); k++) mean += back[k] / double(back.size()), trueMean += trueHeights[k] / double(back.size());
+    for (size_t k = 0; k < back.size(); k++) CHECK(back[k] - mean == doctest::Approx(trueHeights[k] - trueMean).scale(1e-4));
+    trainStep(*t);  // it trains on
+    CHECK(t->log.watchChecks.size() == 3);
+
+    CHECK(trainConfigFromJson(trainConfigToJson(c), "test").sweepWatch == 1);
+    c.model = WaterModel::FlatWater;
+    CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--sweep-watch"), Error);
+  }
+
   SUBCASE("the option survives config.json and needs a learned water and a restart") {
     c.waterSignCheck = true;
     CHECK(trainConfigFromJson(trainConfigToJson(c), "test").waterSignCheck);

@@ -116,6 +116,7 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.knownWaterScale == 1 || c.model == WaterModel::KnownWater, "--known-water-scale needs --known-water");
   need(c.sweepLoss == 0 || c.model == WaterModel::Refraction, "--sweep-loss needs a learned water (not --no-refraction, --flat-water or --known-water)");
   need(!c.sweepLossOnly || c.sweepLoss > 0, "--sweep-loss-only needs --sweep-loss W above 0 (the water would not learn at all)");
+  need(c.sweepWatch == 0 || c.model == WaterModel::Refraction, "--sweep-watch needs a learned water (not --no-refraction, --flat-water or --known-water)");
   need(!c.waterScaleSearch || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
        "--water-scale-search needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
   need(!c.waterSignCheck || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),

@@ -144,6 +144,15 @@ struct TrainConfig {
   // distortion it made; the sweep does not pass through the Gaussians, so they cannot make it
   // agree. 0 (the reference): no gate.
   double surfaceGate = 0;
+  // Every sweepWatch steps while the water learns, and at its last step, sweep the views
+  // through the learned water (its plane-sweep cost against the flat water's, SweepWatchCheck);
+  // when they agree less through it than through flat water, the water goes back to the state
+  // they agreed on best at a check so far (the flat start if none), its Adam's first moments
+  // cleared and its learning rate halved. Why: the water learned from the views' agreement
+  // (--sweep-loss-only) ran away on three of six dev scenes, each ending with the views agreeing
+  // less than through flat water, and a water reset only at the restarts (surfaceGate) ran away
+  // again (docs/experiments/2026-12-05-water-valley.md). 0: no watch. A study option.
+  int sweepWatch = 0;
   // The height MLP's Adam steps scaled by (|m^| / sqrt(v^))^surfaceAgreement, how consistently
   // the surface steps' gradients have pointed one way (shaders/include/adam_update.glsl
   // adamUpdateAgreed). Why: views that disagree, or Gaussians that have absorbed the waves,

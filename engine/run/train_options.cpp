@@ -411,6 +411,12 @@ std::vector<TrainOption> makeTable() {
                    "less through it than through flat water (a plane sweep of each: its cost above X times the flat water's); the "
                    "Gaussians cannot make such a sweep agree (docs/training.md) (0: off)",
                    field(&TrainConfig::surfaceGate), 0, false, inf, false));
+  t.push_back(integer<int>("sweep-watch", "sweep_watch", "N",
+                           "study: every N steps while the water learns, and at its last, the training views swept through the learned "
+                           "water and through flat water; when they agree less through the learned water, it goes back to the water they "
+                           "agreed on best at a check (the flat start if none) and its learning rate halves "
+                           "(docs/experiments/2026-12-05-water-valley.md) (0: off)",
+                           field(&TrainConfig::sweepWatch), 0, 1000000));
   {
     TrainOption o = step("octaves-open-until", "octaves_open_until",
                          "every encoding octave open from step N (the window opens linearly from --surface-freeze)",

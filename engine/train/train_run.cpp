@@ -152,6 +152,18 @@ std::string gateLine(const SurfaceGateCheck& c) {
   return text;
 }
 
+// The line after a --sweep-watch check that rolled the water back.
+std::string watchLine(const SweepWatchCheck& c) {
+  char text[400];
+  const double ratio = c.agreement.reference > 0 ? c.agreement.cost / c.agreement.reference : 0.0;
+  std::snprintf(text, sizeof text,
+                "step %d: the training views agree less through the learned water than through flat water (plane-sweep colour "
+                "variance %.3gx), so it goes back to the water they agreed on best and its learning rate is %.3gx the configured "
+                "(--sweep-watch)",
+                c.step, ratio, c.learningRateScale);
+  return text;
+}
+
 // A resumed run's samples up to its checkpoint (kept on disk as they grow, like evaluations).
 std::vector<SurfaceWatchSample> readSurfaceWatch(const std::string& runDir, int upToStep) {
   std::vector<SurfaceWatchSample> kept;
@@ -261,6 +273,12 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
       return {{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
               {"cells", c.agreement.cells}, {"ratio", ratio(c.agreement)}, {"reset", c.reset}};
     });
+  if (!s.log.watchChecks.empty())
+    m["sweep_watch_checks"] = jsonRows(s.log.watchChecks, [&](const SweepWatchCheck& c) -> nlohmann::json {
+      return {{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
+              {"cells", c.agreement.cells}, {"ratio", ratio(c.agreement)}, {"best", c.best}, {"rolled_back", c.rolledBack},
+              {"learning_rate_scale", c.learningRateScale}};
+    });
   if (!s.log.surfaceWatch.empty()) {
     m["surface_watch"] = surfaceWatchJson(s.log.surfaceWatch);
     const RougheningVerdict verdict = judgeRoughening(s.log.surfaceWatch, s.model.config.schedule.surfaceFreeze + 1);
@@ -302,6 +320,8 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       if (!s.log.scaleSearches.empty() && s.log.scaleSearches.back().step == s.model.step) say(scaleSearchLine(s.log.scaleSearches.back()));
       say("step " + std::to_string(s.model.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
     }
+    if (!s.log.watchChecks.empty() && s.log.watchChecks.back().step == s.model.step && s.log.watchChecks.back().rolledBack)
+      say(watchLine(s.log.watchChecks.back()));
     watchLoss += r.imageLoss;
     watchSteps++;
     if ((s.model.step % surfaceWatchInterval(c) == 0 || s.model.step == c.steps) && watchesSurface(s) && s.log.surfaceShapeMeasured) {

@@ -893,6 +893,58 @@ void gateWater(TrainSession& s, int t) {
   s.log.gateChecks.push_back(check);
 }
 
+// --sweep-watch: every config.sweepWatch steps while the water learns, and at its last step.
+bool sweepWatchAt(const TrainSession& s, int t) {
+  const int every = s.model.config.sweepWatch;
+  return every > 0 && s.model.height && waterLearnsAt(s, t) && ((t - s.model.config.schedule.surfaceFreeze) % every == 0 || t == lastWaterStep(s));
+}
+
+// --sweep-watch's check: the views swept through the learned water against flat water (whose
+// sweep is made once: it does not change). A water they agree on less than on flat water goes
+// back to the best water of the checks so far, or to the flat start; its Adam's first moments
+// are cleared (they point the way it ran), its second kept (as the gate keeps them), and its
+// learning rate halved, so that a water that keeps running away stops moving.
+void watchWater(TrainSession& s, int t) {
+  Context& ctx = *s.model.ctx;
+  WaterLearning& w = s.water;
+  HeightField& hf = *s.model.height;
+  if (w.watchFlat.z.empty()) {
+    AnalyticWaves level;
+    level.base = float(s.model.config.waterHeight);
+    AnalyticHeightField flat = createAnalyticHeightField(ctx, level);
+    w.watchGrid = boxSweepConfig(s.model.config);
+    w.watchFlat = sweepThroughWater(s, heightSource(flat), w.watchGrid);
+  }
+  SweepWatchCheck check;
+  check.step = t;
+  check.agreement = compareSweepCosts(sweepThroughWater(s, currentHeightSource(s.model), w.watchGrid), w.watchFlat);
+  const SweepAgreement& a = check.agreement;
+  const double ratio = a.cells > 0 && a.reference > 0 ? a.cost / a.reference : INFINITY;
+  if (ratio < w.watchBest) {
+    check.best = true;
+    w.watchBest = ratio;
+    w.watchBestWeights = downloadWeights(ctx, hf);
+    w.watchBestInitialHeight = hf.config.initialHeight;
+  } else if (ratio > 1.0) {
+    check.rolledBack = true;
+    pushWaterGradient(s);  // settles the pending sum (then dropped with the water it was for)
+    fillBuffer(ctx, w.heightGrad, 0);
+    if (w.watchBestWeights.empty()) {
+      restartHeightField(s.model);
+    } else {
+      uploadWeights(ctx, hf, w.watchBestWeights);
+      hf.config.initialHeight = w.watchBestInitialHeight;
+      liftSurface(s.model);
+    }
+    fillBuffer(ctx, w.heightAdam.m, 0);
+    w.heightAdam.lr.initial *= 0.5;
+    w.heightAdam.lr.final *= 0.5;
+    anchorMeanHeight(s);
+  }
+  check.learningRateScale = w.heightAdam.lr.initial / surfaceLearningRate(s.model.config).initial;
+  s.log.watchChecks.push_back(check);
+}
+
 // The Gaussians drawn afresh when the step is one of --restart-gaussians; true if so.
 bool restartStep(TrainSession& s, int t) {
   if (!restartAt(s, t)) return false;
@@ -984,6 +1036,10 @@ StepResult trainStep(TrainSession& s) {
     priorEnergy = s.water.priorEnergy;
   }
   if (surfaceStepAt(s, t)) surfaceStep(s, t);
+  if (sweepWatchAt(s, t)) {
+    HostStage h(*s.model.ctx, "sweep watch");
+    watchWater(s, t);
+  }
   const double densityLoss = gaussianStep(s, t, batch.rays());
   const bool countChanged = densifyStep(s, t);
   r.restarted = restartStep(s, t);

@@ -93,6 +93,15 @@ struct WaterLearning {
   // The sweep views at the loss's resolution (downscaledCamera, boxDownscaled): made once.
   std::vector<Camera> sweepLossCameras;
   std::vector<Image> sweepLossImages;
+  // --sweep-watch: the flat water's plane sweep (made at the first check, on its own grid, the
+  // grid later sweeps share: watchGrid), and the learned water the views agreed on best at a
+  // check (its cost over the flat water's, weights and initial height; no weights: the flat
+  // start, at 1). Not checkpointed: a resumed run's watch starts again from its next check.
+  DepthMap watchFlat;
+  PlaneSweepConfig watchGrid;
+  double watchBest = 1.0;
+  std::vector<float> watchBestWeights;
+  float watchBestInitialHeight = 0;
 };
 
 // The step's device buffers for up to `capacity` rays (the model's own ray buffers:
@@ -146,6 +155,16 @@ struct SurfaceGateCheck {
   bool reset = false;
 };
 
+// --sweep-watch at a check: the learned water's plane-sweep agreement against flat water's,
+// whether the water went back to the best state so far, and the water's learning rate after.
+struct SweepWatchCheck {
+  int step = 0;
+  SweepAgreement agreement;  // the learned water (cost) against flat water (reference)
+  bool best = false;         // the best agreement so far: the state a later rollback returns to
+  bool rolledBack = false;
+  double learningRateScale = 1;  // the water's learning rate over the configured one, after the check
+};
+
 // What the run reports of this process (refrax report, the end-of-run checks, --profile);
 // nothing here steers training.
 struct RunLog {
@@ -161,6 +180,7 @@ struct RunLog {
   };
   std::vector<SweepLossPoint> sweepLosses;
   std::vector<SurfaceGateCheck> gateChecks;
+  std::vector<SweepWatchCheck> watchChecks;
   size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
   // The learned water's shape over the seen water as of its last surface step (measured by the
