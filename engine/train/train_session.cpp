@@ -893,10 +893,12 @@ void gateWater(TrainSession& s, int t) {
   s.log.gateChecks.push_back(check);
 }
 
-// --sweep-watch: every config.sweepWatch steps while the water learns, and at its last step.
+// --sweep-watch: every config.sweepWatch steps while the water learns, and at its last step
+// (the run's last without --surface-until), so the water a run ends with has been checked.
 bool sweepWatchAt(const TrainSession& s, int t) {
   const int every = s.model.config.sweepWatch;
-  return every > 0 && s.model.height && waterLearnsAt(s, t) && ((t - s.model.config.schedule.surfaceFreeze) % every == 0 || t == lastWaterStep(s));
+  const int last = std::min(lastWaterStep(s), s.model.config.steps);
+  return every > 0 && s.model.height && waterLearnsAt(s, t) && ((t - s.model.config.schedule.surfaceFreeze) % every == 0 || t == last);
 }
 
 // --sweep-watch's check: the views swept through the learned water against flat water (whose
