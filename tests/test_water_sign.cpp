@@ -307,7 +307,14 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
     trainStep(*t);  // it trains on
     CHECK(t->log.watchChecks.size() == 3);
 
-    CHECK(trainConfigFromJson(trainConfigToJson(c), "test").sweepWatch == 1);
+    // A watch longer than the run still checks the water the run ends with.
+    c.sweepWatch = 1000;
+    auto u = createTrainSession(ctx, c, d);
+    while (u->model.step < c.steps) trainStep(*u);
+    REQUIRE(u->log.watchChecks.size() == 1);
+    CHECK(u->log.watchChecks[0].step == c.steps);
+
+    CHECK(trainConfigFromJson(trainConfigToJson(c), "test").sweepWatch == 1000);
     c.model = WaterModel::FlatWater;
     CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--sweep-watch"), Error);
   }
