@@ -146,8 +146,8 @@ struct TrainConfig {
   double surfaceGate = 0;
   // Every sweepWatch steps while the water learns, and at its last step, sweep the views
   // through the learned water (its plane-sweep cost against the flat water's, SweepWatchCheck);
-  // when they agree less through it than through flat water, the water goes back to the state
-  // they agreed on best at a check so far (the flat start if none), its Adam's first moments
+  // when they agree less through it than through flat water (by more than 1%), the water goes back to the state
+  // they agreed on best at a check so far (flat water at the water height if none), its Adam's first moments
   // cleared and its learning rate halved. Why: the water learned from the views' agreement
   // (--sweep-loss-only) ran away on three of six dev scenes, each ending with the views agreeing
   // less than through flat water, and a water reset only at the restarts (surfaceGate) ran away

@@ -414,7 +414,7 @@ std::vector<TrainOption> makeTable() {
   t.push_back(integer<int>("sweep-watch", "sweep_watch", "N",
                            "study: every N steps while the water learns, and at its last, the training views swept through the learned "
                            "water and through flat water; when they agree less through the learned water, it goes back to the water they "
-                           "agreed on best at a check (the flat start if none) and its learning rate halves "
+                           "agreed on best at a check (flat water if none) and its learning rate halves "
                            "(docs/experiments/2026-12-05-water-valley.md) (0: off)",
                            field(&TrainConfig::sweepWatch), 0, 1000000));
   {
