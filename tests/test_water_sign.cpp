@@ -332,3 +332,14 @@ GPU_TEST_CASE("water sign: a height field's mirror image, and --water-sign-check
     CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--water-sign-check"), Error);
   }
 }
+
+TEST_CASE("--sweep-watch's verdict: a new best below the best so far, 1% over flat water's sweep cost let pass, more rolled back") {
+  // The ratio is the learned water's sweep cost over flat water's; the best so far starts at 1.
+  CHECK(sweepWatchVerdict(0.9, 1.0) == SweepWatchVerdict::Best);
+  CHECK(sweepWatchVerdict(0.95, 0.9) == SweepWatchVerdict::Keep);  // worse than the best, better than flat
+  CHECK(sweepWatchVerdict(1.005, 1.0) == SweepWatchVerdict::Keep);  // noise: dev 7's flat water read 1.0004-1.0042
+  CHECK(sweepWatchVerdict(1.005, 0.9) == SweepWatchVerdict::Keep);
+  CHECK(sweepWatchVerdict(1.02, 1.0) == SweepWatchVerdict::RollBack);
+  CHECK(sweepWatchVerdict(1.02, 0.9) == SweepWatchVerdict::RollBack);
+  CHECK(sweepWatchVerdict(INFINITY, 1.0) == SweepWatchVerdict::RollBack);  // no cell swept
+}

@@ -600,6 +600,17 @@ void requireSurfaceInScene(TrainSession& s, int t) {
 
 // The plane sweep through the water lifted from `heights` (sweepThroughWater, below).
 DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSweepConfig& pc);
+DepthMap sweepThroughFlatWater(TrainSession& s, PlaneSweepConfig& pc);
+
+// Before the learned water is replaced (the gate's restart, the watch's rollback): its pending
+// gradient is settled and dropped with the water it was for, and its Adam's first moments
+// cleared (they point the way it ran); the second moments are kept, being blind to the
+// direction.
+void dropWaterMomentum(TrainSession& s) {
+  pushWaterGradient(s);
+  fillBuffer(*s.model.ctx, s.water.heightGrad, 0);
+  fillBuffer(*s.model.ctx, s.water.heightAdam.m, 0);
+}
 
 // --sweep-loss: weight * the mean over the sweep views' rays of |I - T(x)|^2 (sweep_loss.h),
 // its dL/d(refracted ray) taken by the surface's backward into the height field's gradient,
@@ -875,8 +886,7 @@ void searchWaterScale(TrainSession& s, int t) {
 }
 
 // --surface-gate: the learned water starts again from flat when the views agree less through
-// it than through flat water. Its Adam's first moments are zeroed (they point the way it ran);
-// the second moments are kept, as the sign check keeps them.
+// it than through flat water (its momentum dropped: dropWaterMomentum).
 void gateWater(TrainSession& s, int t) {
   SurfaceGateCheck check;
   check.step = t;
@@ -884,10 +894,8 @@ void gateWater(TrainSession& s, int t) {
   const SweepAgreement& a = check.agreement;
   check.reset = a.cells > 0 && a.cost > s.model.config.surfaceGate * a.reference;
   if (check.reset) {
-    pushWaterGradient(s);  // settles the pending sum (then dropped with the water it was for)
-    fillBuffer(*s.model.ctx, s.water.heightGrad, 0);
+    dropWaterMomentum(s);
     restartHeightField(s.model);
-    fillBuffer(*s.model.ctx, s.water.heightAdam.m, 0);
     anchorMeanHeight(s);
   }
   s.log.gateChecks.push_back(check);
@@ -901,40 +909,33 @@ bool sweepWatchAt(const TrainSession& s, int t) {
   return every > 0 && s.model.height && waterLearnsAt(s, t) && ((t - s.model.config.schedule.surfaceFreeze) % every == 0 || t == last);
 }
 
-// How much more than flat water's sweep cost --sweep-watch lets pass: on dev 7 (whose water the
-// views leave flat) seven checks read 1.0004-1.0042, the runs that ran away 1.03-1.17.
-constexpr double kWatchTolerance = 1.01;
-
 // --sweep-watch's check: the views swept through the learned water against flat water (whose
 // sweep is made once: it does not change). A water they agree on less than on flat water goes
-// back to the best water of the checks so far, or to flat water at the water height; its Adam's first moments
-// are cleared (they point the way it ran), its second kept (as the gate keeps them), and its
-// learning rate halved, so that a water that keeps running away stops moving.
+// back to the best water of the checks so far, or to flat water at the water height; its
+// momentum is dropped (dropWaterMomentum) and its learning rate halved, so that a water that
+// keeps running away stops moving.
 void watchWater(TrainSession& s, int t) {
   Context& ctx = *s.model.ctx;
   WaterLearning& w = s.water;
   HeightField& hf = *s.model.height;
   if (w.watchFlat.z.empty()) {
-    AnalyticWaves level;
-    level.base = float(s.model.config.waterHeight);
-    AnalyticHeightField flat = createAnalyticHeightField(ctx, level);
     w.watchGrid = boxSweepConfig(s.model.config);
-    w.watchFlat = sweepThroughWater(s, heightSource(flat), w.watchGrid);
+    w.watchFlat = sweepThroughFlatWater(s, w.watchGrid);
   }
   SweepWatchCheck check;
   check.step = t;
   check.agreement = compareSweepCosts(sweepThroughWater(s, currentHeightSource(s.model), w.watchGrid), w.watchFlat);
   const SweepAgreement& a = check.agreement;
   const double ratio = a.cells > 0 && a.reference > 0 ? a.cost / a.reference : INFINITY;
-  if (ratio < w.watchBest) {
+  const SweepWatchVerdict verdict = sweepWatchVerdict(ratio, w.watchBest);
+  if (verdict == SweepWatchVerdict::Best) {
     check.best = true;
     w.watchBest = ratio;
     w.watchBestWeights = downloadWeights(ctx, hf);
     w.watchBestInitialHeight = hf.config.initialHeight;
-  } else if (ratio > kWatchTolerance) {
+  } else if (verdict == SweepWatchVerdict::RollBack) {
     check.rolledBack = true;
-    pushWaterGradient(s);  // settles the pending sum (then dropped with the water it was for)
-    fillBuffer(ctx, w.heightGrad, 0);
+    dropWaterMomentum(s);
     if (w.watchBestWeights.empty()) {
       // flat at the water height: the initial weights' own relief (--mlp-init-range) read
       // 1.02-1.08x flat water's cost on dev 9, where every check found the learned water worse
@@ -944,7 +945,6 @@ void watchWater(TrainSession& s, int t) {
       hf.config.initialHeight = w.watchBestInitialHeight;
     }
     liftSurface(s.model);
-    fillBuffer(ctx, w.heightAdam.m, 0);
     w.heightAdam.lr.initial *= 0.5;
     w.heightAdam.lr.final *= 0.5;
     anchorMeanHeight(s);
@@ -975,15 +975,30 @@ DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSw
   return planeSweepDepth(views, pc);
 }
 
-}  // namespace
-
-SweepAgreement agreementWithFlatWater(TrainSession& s) {
-  if (!s.model.surface) fail("agreementWithFlatWater: the model has no water");
+// The plane sweep through flat water at the configured water height, on pc's grid (set from
+// these views when pc has no cell size): the reference the learned water is compared with.
+DepthMap sweepThroughFlatWater(TrainSession& s, PlaneSweepConfig& pc) {
   AnalyticWaves level;
   level.base = float(s.model.config.waterHeight);
   AnalyticHeightField flat = createAnalyticHeightField(*s.model.ctx, level);
+  return sweepThroughWater(s, heightSource(flat), pc);
+}
+
+}  // namespace
+
+// How much more than flat water's sweep cost --sweep-watch lets pass: on dev 7 (whose water the
+// views leave flat) seven checks read 1.0004-1.0042, the runs that ran away 1.03-1.17.
+constexpr double kWatchTolerance = 1.01;
+
+SweepWatchVerdict sweepWatchVerdict(double ratio, double best) {
+  if (ratio < best) return SweepWatchVerdict::Best;
+  return ratio > kWatchTolerance ? SweepWatchVerdict::RollBack : SweepWatchVerdict::Keep;
+}
+
+SweepAgreement agreementWithFlatWater(TrainSession& s) {
+  if (!s.model.surface) fail("agreementWithFlatWater: the model has no water");
   PlaneSweepConfig pc = boxSweepConfig(s.model.config);  // one grid for both: the flat water's cell size
-  const DepthMap reference = sweepThroughWater(s, heightSource(flat), pc);
+  const DepthMap reference = sweepThroughFlatWater(s, pc);
   return compareSweepCosts(sweepThroughWater(s, currentHeightSource(s.model), pc), reference);
 }
 

@@ -165,6 +165,12 @@ struct SweepWatchCheck {
   double learningRateScale = 1;  // the water's learning rate over the configured one, after the check
 };
 
+// What --sweep-watch does with a check's ratio (the learned water's sweep cost over flat
+// water's) given the best ratio so far (1 before any: flat water): keep it as the new best,
+// keep the water as it is (within the tolerance over flat water), or roll it back.
+enum class SweepWatchVerdict { Best, Keep, RollBack };
+SweepWatchVerdict sweepWatchVerdict(double ratio, double best);
+
 // What the run reports of this process (refrax report, the end-of-run checks, --profile);
 // nothing here steers training.
 struct RunLog {
