@@ -10,6 +10,7 @@
 #include "engine/gaussian/gaussian_trace.h"
 #include "engine/trace/presort.h"
 #include "engine/vk/vk_buffer.h"
+#include "engine/vk/vk_commands.h"
 #include "engine/reference/gaussian_trace_ref.h"
 #include "tests/gaussian_test_scene.h"
 #include "tests/gpu_test.h"
@@ -229,6 +230,38 @@ GPU_TEST_CASE("Gaussian proxies follow moved Gaussians by refit and by rebuild")
     }
 }
 
+// Training reorders the proxies every 100 steps (engine/train/train_session.cpp): made on the
+// device (a GPU) or on the host (lavapipe), the new order is the moved means' median split, and
+// the tree built in it traces as the reference does.
+GPU_TEST_CASE("Gaussian proxies reordered after the Gaussians moved take the moved means' order, on either side") {
+  GaussianSet set = randomGaussians(rng, 1000, testGaussianOptions());
+  auto rays = raysIntoVolume(rng, 800);
+  std::normal_distribution<float> N(0.0f, 0.05f);
+  GaussianSet moved = set;
+  for (size_t i = 0; i < moved.count(); i++)
+    for (int a = 0; a < 3; a++) moved.at(i)[f32::kGaussMean + a] += N(rng);
+  const std::vector<uint32_t> before = gaussianMeansOrder(set), after = gaussianMeansOrder(moved);
+  REQUIRE(before != after);
+  for (ProxyKind kind : {ProxyKind::AabbBlas, ProxyKind::InstancedUnitBox})
+    for (bool onDevice : {true, false}) {
+      DeviceGaussians dev = uploadGaussians(ctx, set);
+      GaussianTracer tracer = createGaussianTracer(ctx);
+      tracer.orderOnDevice = onDevice;
+      GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, kind, true);
+      INFO(proxyKindName(kind) << (onDevice ? ", ordered on the device" : ", ordered on the host"));
+      CHECK(downloadProxyOrder(ctx, proxies) == before);
+      updateGaussians(ctx, dev, moved);
+      reorderGaussianProxies(ctx, tracer, proxies, dev);
+      CHECK(downloadProxyOrder(ctx, proxies) == after);
+      auto cmp = compareForward(moved, rays, traceGaussians(ctx, tracer, proxies, dev, rays), {});
+      CHECK(cmp.compared >= rays.size() * 95 / 100);
+      CHECK(cmp.hitCountMismatch == 0);
+      CHECK(cmp.worstColorRel <= 1e-4);
+      if (!onDevice) CHECK_THROWS_WITH(submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdReorderGaussianProxies(cb, tracer, proxies, dev); }),
+                                       doctest::Contains("on the host"));
+    }
+}
+
 GPU_TEST_CASE("water removal: straight camera rays through the Gaussians match the reference") {
   GaussianSet set = randomGaussians(rng, 1500, testGaussianOptions());
   DeviceGaussians dev = uploadGaussians(ctx, set);
@@ -369,10 +402,19 @@ GPU_TEST_CASE("Gaussian proxies reach the BVH builder in median-split order") {
   DeviceGaussians dev = uploadGaussians(ctx, set);
   GaussianTracer tracer = createGaussianTracer(ctx, 16);
   GaussianProxies proxies = buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas);
-  std::vector<Box> boxes(set.count());
-  for (size_t i = 0; i < set.count(); i++) gaussianProxyBox(set.at(i), &boxes[i].minX);
-  const std::vector<uint32_t> expected = medianSplitOrder(boxes);
-  REQUIRE(proxies.order == expected);
+  // The order is the median split of the Gaussians' means (boxes of no size there), made on
+  // the device (engine/trace/device_order.h).
+  std::vector<Box> boxes(set.count()), means(set.count());
+  for (size_t i = 0; i < set.count(); i++) {
+    gaussianProxyBox(set.at(i), &boxes[i].minX);
+    const float* mu = set.at(i) + f32::kGaussMean;
+    means[i] = Box{mu[0], mu[1], mu[2], mu[0], mu[1], mu[2]};
+  }
+  const std::vector<uint32_t> expected = medianSplitOrder(means);
+  REQUIRE(downloadProxyOrder(ctx, proxies) == expected);
+  // Made on the other side (the host on a GPU, the device on a CPU device), the same order.
+  tracer.orderOnDevice = !tracer.orderOnDevice;
+  CHECK(downloadProxyOrder(ctx, buildGaussianProxies(ctx, tracer, dev, set, ProxyKind::AabbBlas)) == expected);
   std::vector<uint32_t> identity(set.count());
   std::iota(identity.begin(), identity.end(), 0u);
   CHECK(expected != identity);  // random Gaussians: the split order differs from the input order

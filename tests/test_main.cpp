@@ -90,6 +90,10 @@ int main(int argc, char** argv) {
   // Every case, and every CLI it runs, with the validation layer on (CTest sets it too; a
   // direct run of this binary gets the same).
   setenv("REFRAX_VALIDATION", "1", 0);
+  // The compute-backend pass stands for a GPU without ray queries: it orders the Gaussians'
+  // proxies on the device as a GPU does, where lavapipe orders them on the host
+  // (engine/gaussian/gaussian_trace.h orderOnDevice; tests/CMakeLists.txt).
+  if (const char* trace = std::getenv("REFRAX_TRACE"); trace && std::string(trace) == "compute") setenv("REFRAX_PROXY_ORDER", "device", 0);
   doctest::Context runner;
   runner.applyCommandLine(argc, argv);
   int result = runner.run();

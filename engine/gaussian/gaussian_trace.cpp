@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_math.h"
@@ -45,6 +47,14 @@ const ComputePipeline& backwardPipeline(GaussianTracer& t, ProxyKind kind) {
                               sizeof(TracePush), traceSpec(t.K, kind));
   return p;
 }
+
+const DeviceOrderPipelines& orderPipelines(GaussianTracer& t) {
+  if (!t.order) t.order = createDeviceOrderPipelines(*t.ctx);
+  return *t.order;
+}
+
+// The Gaussians' means in their parameters: the points the proxies are ordered by.
+constexpr PointLayout kGaussianMeans{kGaussianFloats, f32::kGaussMean};
 
 const ComputePipeline& preparePipeline(GaussianTracer& t) {
   if (!t.prepare.pipeline)
@@ -130,6 +140,14 @@ GaussianTracer createGaussianTracer(Context& ctx, uint32_t K, bool casAtomics) {
   t.K = K;
   t.casAtomics = casAtomics || !ctx.caps.floatAtomicAdd;
   t.noHitRecords = createBuffer(ctx, 16);
+  t.orderOnDevice = ctx.caps.type != VK_PHYSICAL_DEVICE_TYPE_CPU;
+  // REFRAX_PROXY_ORDER=device|host: the other side on any device (the compute-backend test pass
+  // orders on the device as a GPU does; tests/CMakeLists.txt).
+  if (const char* where = std::getenv("REFRAX_PROXY_ORDER")) {
+    const std::string w = where;
+    if (w != "device" && w != "host") fail("REFRAX_PROXY_ORDER must be device or host, not '" + w + "'");
+    t.orderOnDevice = w == "device";
+  }
   return t;
 }
 
@@ -153,15 +171,14 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
   p.kind = kind;
   p.count = gaussians.count;
   p.allowUpdate = allowUpdate;
-  std::vector<Box> boxes(p.count);
   for (uint32_t i = 0; i < p.count; i++) {
-    gaussianProxyBox(host.at(i), &boxes[i].minX);
+    float box[6];
+    gaussianProxyBox(host.at(i), box);
     bool clamped = false;
-    for (int a = 0; a < 3; a++) clamped = clamped || (&boxes[i].minX)[3 + a] - (&boxes[i].minX)[a] >= float(2 * f64::kMaxProxyHalfExtent);
+    for (int a = 0; a < 3; a++) clamped = clamped || box[3 + a] - box[a] >= float(2 * f64::kMaxProxyHalfExtent);
     p.clamped += clamped ? 1 : 0;
   }
-  p.order = medianSplitOrder(boxes);
-  p.orderBuffer = createBufferFrom(ctx, p.order);
+  p.orderBuffer = createBuffer(ctx, VkDeviceSize(std::max<uint32_t>(p.count, 1)) * sizeof(uint32_t));
   p.trace = createBuffer(ctx, VkDeviceSize(p.count) * kTraceGaussianBytes);
   p.sh = createBuffer(ctx, VkDeviceSize(p.count) * kShPackedBytes);
   p.spheres = createBuffer(ctx, VkDeviceSize(p.count) * 16);
@@ -189,8 +206,54 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
     p.tlas = createTlas(ctx, p.instances, p.count, opts);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdBuild(cb, p.blas); });
   }
+  if (tracer.orderOnDevice) {
+    MedianSplitScratch scratch = createMedianSplitScratch(ctx, p.count);
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cmdMedianSplitOrder(cb, orderPipelines(tracer), scratch, gaussians.params, kGaussianMeans, p.count, p.orderBuffer);
+      cmdUpdateGaussianProxies(cb, tracer, p, gaussians, false);
+    });
+    return p;
+  }
+  if (p.count) {
+    std::vector<uint32_t> order = gaussianMeansOrder(host);
+    upload(ctx, p.orderBuffer, order.data(), order.size() * sizeof(uint32_t));
+  }
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateGaussianProxies(cb, tracer, p, gaussians, false); });
   return p;
+}
+
+void cmdReorderGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, GaussianProxies& p, const DeviceGaussians& gaussians) {
+  if (gaussians.count != p.count) fail("Gaussian count changed since the proxies were built (rebuild them)");
+  if (!tracer.orderOnDevice) fail("cmdReorderGaussianProxies: this tracer orders the proxies on the host (reorderGaussianProxies)");
+  if (!p.orderScratch) p.orderScratch = createMedianSplitScratch(*tracer.ctx, p.count);
+  cmdMedianSplitOrder(cb, orderPipelines(tracer), *p.orderScratch, gaussians.params, kGaussianMeans, p.count, p.orderBuffer);
+  cmdUpdateGaussianProxies(cb, tracer, p, gaussians, false);
+}
+
+void reorderGaussianProxies(Context& ctx, GaussianTracer& tracer, GaussianProxies& proxies, const DeviceGaussians& gaussians) {
+  if (tracer.orderOnDevice) {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdReorderGaussianProxies(cb, tracer, proxies, gaussians); });
+    return;
+  }
+  if (gaussians.count != proxies.count) fail("Gaussian count changed since the proxies were built (rebuild them)");
+  if (proxies.count) {
+    std::vector<uint32_t> order = gaussianMeansOrder(downloadGaussians(ctx, gaussians));
+    upload(ctx, proxies.orderBuffer, order.data(), order.size() * sizeof(uint32_t));
+  }
+  updateGaussianProxies(ctx, tracer, proxies, gaussians, false);
+}
+
+std::vector<uint32_t> gaussianMeansOrder(const GaussianSet& set) {
+  std::vector<Box> means(set.count());  // boxes of no size: their centroids are the means
+  for (size_t i = 0; i < set.count(); i++) {
+    const float* mu = set.at(i) + f32::kGaussMean;
+    means[i] = Box{mu[0], mu[1], mu[2], mu[0], mu[1], mu[2]};
+  }
+  return medianSplitOrder(means);
+}
+
+std::vector<uint32_t> downloadProxyOrder(Context& ctx, const GaussianProxies& proxies) {
+  return downloadVector<uint32_t>(ctx, proxies.orderBuffer, proxies.count);
 }
 
 void cmdUpdateGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, GaussianProxies& p, const DeviceGaussians& gaussians, bool refit) {

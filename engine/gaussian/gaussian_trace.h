@@ -13,6 +13,7 @@
 #include "engine/base/gpu_layout.h"
 #include "engine/gaussian/gaussians.h"
 #include "engine/trace/box_bvh.h"
+#include "engine/trace/device_order.h"
 #include "engine/trace/rays.h"
 #include "engine/vk/vk_accel.h"
 #include "engine/vk/vk_pipeline.h"
@@ -95,6 +96,12 @@ struct GaussianTracer {
   ComputePipeline tileCull;          // engine/gaussian/tiled_trace.h
   ComputePipeline forwardTiled[2];
   ComputePipeline bvhRefit;          // the compute trace backend's proxy BVH (engine/trace/box_bvh.h)
+  // Where the proxies' median-split order is made: on the device (engine/trace/device_order.h)
+  // on a GPU, where it saves reading the Gaussians back; on the host from their means on a CPU
+  // device (lavapipe), where the device's passes cost 15x the host's sort (bench proxy-order).
+  // The two orders are the same (tests/test_device_order.cpp).
+  bool orderOnDevice = true;
+  std::optional<DeviceOrderPipelines> order;
   Buffer noHitRecords;  // bound where no hit records are written or read
 };
 // K: k-buffer size (specialization constant). casAtomics: force the fallback even where
@@ -104,9 +111,9 @@ GaussianTracer createGaussianTracer(Context& ctx, uint32_t K = kDefaultKBuffer, 
 struct GaussianProxies {
   ProxyKind kind = ProxyKind::AabbBlas;
   uint32_t count = 0;
-  std::vector<uint32_t> order;  // order[slot] = Gaussian id (slot = BLAS primitive / TLAS instance)
   uint32_t clamped = 0;         // Gaussians whose box was clamped to kMaxProxyHalfExtent (when built)
-  Buffer orderBuffer;
+  Buffer orderBuffer;           // order[slot] = Gaussian id (slot = BLAS primitive / TLAS instance)
+  std::optional<MedianSplitScratch> orderScratch;  // kept once reordered (reorderGaussianProxies)
   Buffer trace;      // TraceGaussian per slot (AABB variant) or per id (instanced variant)
   Buffer sh;         // SH coefficients per Gaussian id as 12 vec4s (the tracer loads these, not the 48 raw floats)
   Buffer spheres;    // bounding sphere of each cut-off ellipsoid (centre, radius), in `trace`'s order (the tiled forward's culling)
@@ -125,15 +132,28 @@ Binding sceneBinding(const GaussianProxies& proxies);
 std::string traceShaderName(const Context& ctx, const std::string& name);
 VkDescriptorType sceneBindingType(const Context& ctx);
 
+// The median-split order of the Gaussians' means on the host (presort.h medianSplitOrder).
+std::vector<uint32_t> gaussianMeansOrder(const GaussianSet& set);
+
 // The proxy box of one Gaussian (raw parameters) as gaussian_prepare.comp writes it, on the
 // host in double precision (used to choose the BVH order, and by benchmarks), as
 // VkAabbPositionsKHR: min x y z, max x y z.
 void gaussianProxyBox(const float* g, float box[6]);
 
-// Orders the proxies (median split of the boxes, computed on the host from `host`), writes
-// them from the device parameters and builds the acceleration structures.
+// Orders the proxies (the median split of the Gaussians' means, where tracer.orderOnDevice
+// says), writes them from the device parameters and builds the acceleration structures. `host`
+// is the same Gaussians (the count of clamped boxes, and a host-made order, are taken from it).
 GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, const GaussianSet& host,
                                      ProxyKind kind, bool allowUpdate = true);
+// The proxies in the median-split order of the Gaussians' means now (same count), the
+// structures rebuilt, after the Gaussians moved. The order is the one buildGaussianProxies gives
+// the same Gaussians, so a run resumed from a checkpoint traces the tree the uninterrupted run
+// traced. Recorded (cmd...) only where tracer.orderOnDevice: nothing is read back; otherwise the
+// means are read back and ordered on the host.
+void cmdReorderGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, GaussianProxies& proxies, const DeviceGaussians& gaussians);
+void reorderGaussianProxies(Context& ctx, GaussianTracer& tracer, GaussianProxies& proxies, const DeviceGaussians& gaussians);
+// The proxies' order (order[slot] = Gaussian id), read back.
+std::vector<uint32_t> downloadProxyOrder(Context& ctx, const GaussianProxies& proxies);
 // After the Gaussians moved (same count): rewrite the proxies and refit (keeps the order
 // and the tree topology) or rebuild the tree in the same order.
 void cmdUpdateGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, GaussianProxies& proxies, const DeviceGaussians& gaussians,

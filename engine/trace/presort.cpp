@@ -30,7 +30,11 @@ std::vector<uint32_t> medianSplitOrder(const std::vector<Box>& boxes) {
       if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
     int split = (first + last) / 2;  // lavapipe's split point
     std::nth_element(idx.begin() + first, idx.begin() + split, idx.begin() + last + 1,
-                     [&](uint32_t a, uint32_t b) { return centre2(a, axis) < centre2(b, axis); });
+                     [&](uint32_t a, uint32_t b) {
+                       // ties by index: one order for any std::nth_element, the device's (device_order.h)
+                       float ca = centre2(a, axis), cb = centre2(b, axis);
+                       return ca < cb || (ca == cb && a < b);
+                     });
     stack.push_back({first, split});
     stack.push_back({split + 1, last});
   }

@@ -126,10 +126,8 @@ void syncGaussians(TrainSession& s, bool countChanged) {
     return;
   }
   pushGaussians(s);  // after a host step; a device step left the device's copy current
-  const bool reorder = proxyReorderAt(s, s.model.step);
-  if (reorder) pullGaussians(s);  // the order comes from the host's boxes
-  if (reorder)
-    s.model.proxies = buildGaussianProxies(*s.model.ctx, s.model.tracer, s.model.device, s.model.gaussians, s.model.proxyKind, true);
+  if (proxyReorderAt(s, s.model.step))
+    reorderGaussianProxies(*s.model.ctx, s.model.tracer, s.model.proxies, s.model.device);  // no pull of the optimiser's state
   else
     updateGaussianProxies(*s.model.ctx, s.model.tracer, s.model.proxies, s.model.device, false);
 }
@@ -791,10 +789,11 @@ bool restartAt(const TrainSession& s, int t) {
   return std::find(restarts.begin(), restarts.end(), t) != restarts.end();
 }
 
-// Whether the host changes the Gaussians after step t (densification, a restart) or rebuilds
-// their proxies in a new order: otherwise the step's command buffer refits the proxies itself.
+// Whether the host changes the Gaussians after step t (densification, a restart) or orders
+// their proxies (on a CPU device): otherwise the step's command buffer refits or reorders the
+// proxies itself.
 bool hostGaussianEventAt(const TrainSession& s, int t) {
-  return cloneSplitAt(s, t) || pruneAt(s, t) || restartAt(s, t) || proxyReorderAt(s, t);
+  return cloneSplitAt(s, t) || pruneAt(s, t) || restartAt(s, t) || (proxyReorderAt(s, t) && !s.model.tracer.orderOnDevice);
 }
 
 // Clone/split/prune when due (3DGS strategy), or MCMC's relocation and growth; true when the
@@ -1046,7 +1045,10 @@ StepResult trainStep(TrainSession& s) {
     if (s.buffers.gaussianOptimiser) cmdGaussianDeviceStep(cb, s, t, batch.rays());
     if (proxiesInBatch) {
       cmdBarrier(cb);
-      cmdUpdateGaussianProxies(cb, s.model.tracer, s.model.proxies, s.model.device, false);
+      if (proxyReorderAt(s, t))
+        cmdReorderGaussianProxies(cb, s.model.tracer, s.model.proxies, s.model.device);
+      else
+        cmdUpdateGaussianProxies(cb, s.model.tracer, s.model.proxies, s.model.device, false);
       profileStage(cb, *s.model.ctx, "gaussian proxies");
     }
   }, progressDue);
