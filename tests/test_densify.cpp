@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "engine/gaussian/densify.h"
+#include "engine/gaussian/densify_device.h"
+#include "engine/gaussian/gaussian_adam.h"
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_math.h"
 #include "tests/gpu_test.h"
@@ -328,4 +330,142 @@ TEST_CASE("densify: bad input is one clear error") {
   config = DensifyConfig{};
   config.densifyInterval = 0;
   CHECK_THROWS_AS(densityDecay(set, config), Error);
+}
+
+namespace {
+
+// A set for the device comparison: sigmas either side of the clone limit and the large-prune
+// limit, densities either side of the prune floor, statistics either side of the threshold
+// (a few tied), and Adam moments and statistic sums to carry.
+struct DensifyCase {
+  GaussianSet set;
+  std::vector<float> stats;
+  TableAdam adam;
+};
+DensifyCase randomDensifyCase(std::mt19937& rng, size_t n) {
+  DensifyCase c;
+  RandomGaussianOptions o;
+  o.sigmaMin = 0.002f, o.sigmaMax = 0.15f, o.densityMin = 0.001f;
+  c.set = randomGaussians(rng, n, o);
+  for (size_t i = 0; i < n; i++)  // a third clone-sized, a few past the large-prune limit
+    if (i % 3 == 0 || i % 53 == 7)
+      for (int a = 0; a < 3; a++) c.set.at(i)[f32::kGaussLogScale + a] = std::log(i % 3 == 0 ? 0.005f : 0.2f);
+  std::uniform_real_distribution<float> U(0.0f, 1.0f);
+  for (size_t i = 0; i < n; i++) {
+    float rays = float(1 + int(20 * U(rng)));
+    float mean = U(rng) < 0.3f ? 3e-4f + 1e-3f * U(rng) : 2e-4f * U(rng);
+    if (i % 97 == 5) mean = 9e-4f;  // ties in the statistic
+    c.stats.insert(c.stats.end(), {mean * rays, rays});
+  }
+  c.adam = createGaussianAdam(1.0, 1, n);
+  for (float& x : c.adam.m) x = U(rng) - 0.5f;
+  for (float& x : c.adam.v) x = U(rng);
+  return c;
+}
+
+}  // namespace
+
+// The device's densification (engine/gaussian/densify_device.h) against the host's, row by row:
+// the same rows in the same order, split children to float precision (the device draws them in
+// float, the host in double), the Adam moments remapped as remapTableAdamRows does, the
+// statistic sums zeroed after a clone/split and kept by a prune alone.
+GPU_TEST_CASE("densify on the device: the host's rows, moments and sums, in the host's order") {
+  DeviceDensifyPipelines pipelines = createDeviceDensifyPipelines(ctx);
+  struct Setting {
+    const char* what;
+    uint32_t step, maxGaussians;
+  };
+  for (Setting setting : {Setting{"prune alone", 3100, 1000000}, Setting{"clone, split and prune", 3000, 1000000},
+                          Setting{"clone and split capped", 600, 2300}, Setting{"at the cap", 600, 1000}}) {
+    DensifyConfig config;
+    config.densifyInterval = 300, config.pruneInterval = 100;
+    config.maxGaussians = setting.maxGaussians;
+    config.pruneLargeFromStep = 3000;
+    const uint32_t seed = rng();
+    DensifyCase c = randomDensifyCase(rng, 2000);
+    INFO(setting.what);
+
+    GaussianSet host = c.set;
+    TableAdam hostAdam = c.adam;
+    std::vector<uint32_t> rowMap;
+    std::mt19937 hostRng(seed), deviceRng(seed);
+    DensifyStats want = densify(host, c.stats, config, setting.step, hostRng, rowMap);
+    remapTableAdamRows(hostAdam, rowMap);
+    const bool keepStats = !densifyDue(config, setting.step);
+    std::vector<float> hostSums(rowMap.size() * 2, 0.0f);
+    for (size_t i = 0; i < rowMap.size() && keepStats; i++)
+      if (rowMap[i] != kNewRow) hostSums[2 * i] = c.stats[2 * rowMap[i]], hostSums[2 * i + 1] = c.stats[2 * rowMap[i] + 1];
+
+    DeviceGaussians dev = uploadGaussians(ctx, c.set);
+    GaussianDeviceOptimiser o = createGaussianDeviceOptimiser(ctx, dev.count, kGaussianFloats);
+    uploadGaussianOptimiser(ctx, o, c.adam, c.stats);
+    DensifyStats got = densifyOnDevice(ctx, pipelines, dev, o, config, setting.step, deviceRng);
+    CHECK(hostRng() == deviceRng());  // the same draws taken from the run's generator
+    CHECK(got.before == want.before);
+    CHECK(got.after == want.after);
+    CHECK(got.cloned == want.cloned);
+    CHECK(got.split == want.split);
+    CHECK(got.prunedLowDensity == want.prunedLowDensity);
+    CHECK(got.prunedLarge == want.prunedLarge);
+    CHECK(got.cappedOut == want.cappedOut);
+    REQUIRE(dev.count == host.count());
+    REQUIRE(o.rows == host.count());
+    if (std::string(setting.what) == "prune alone") CHECK(want.cloned + want.split == 0);
+    else if (std::string(setting.what) == "at the cap") CHECK(want.cappedOut > 0);
+    else CHECK_MESSAGE((want.cloned > 0 && want.split > 0), "cloned " << want.cloned << ", split " << want.split << ", capped " << want.cappedOut);
+    CHECK(want.prunedLowDensity > 0);
+    if (setting.step >= config.pruneLargeFromStep) CHECK(want.prunedLarge > 0);
+
+    GaussianSet gotSet = downloadGaussians(ctx, dev);
+    TableAdam gotAdam = hostAdam;
+    std::vector<float> gotSums;
+    downloadGaussianOptimiser(ctx, o, gotAdam, gotSums);
+    size_t rowsDiffer = 0, childrenOff = 0;
+    double worstChild = 0;
+    for (size_t i = 0; i < host.count(); i++) {
+      const bool child = i >= want.after - 2 * size_t(want.split);
+      for (uint32_t k = 0; k < kGaussianFloats; k++) {
+        const float a = gotSet.at(i)[k], b = host.at(i)[k];
+        if (!child) rowsDiffer += a != b;
+        else worstChild = std::max(worstChild, double(std::abs(a - b)) / (1.0 + std::abs(b)));
+      }
+    }
+    childrenOff += worstChild > 2e-6;
+    CHECK(rowsDiffer == 0);
+    INFO("worst split child's difference " << worstChild);
+    CHECK(childrenOff == 0);
+    CHECK(gotAdam.m == hostAdam.m);
+    CHECK(gotAdam.v == hostAdam.v);
+    CHECK(gotSums == hostSums);
+  }
+}
+
+// Equal statistics at the cap: the host takes the lower rows first, and so must the device's
+// sort (stable, so its order is the rows' among equal keys).
+GPU_TEST_CASE("densify on the device: equal statistics at the cap go to the lower rows, as on the host") {
+  DeviceDensifyPipelines pipelines = createDeviceDensifyPipelines(ctx);
+  DensifyConfig config;
+  GaussianSet set;
+  std::vector<float> stats;
+  for (int i = 0; i < 600; i++) {
+    addGaussian(set, glm::vec3(0.001f * float(i), 0, 0), glm::vec3(0.01f), 0.5f);  // clone-sized
+    stats.insert(stats.end(), {i % 2 ? 2e-3f : 1e-3f, 1.0f});                    // two tied groups
+  }
+  config.maxGaussians = 600 + 200;  // room for 200 of the 300 odd rows (the larger statistic), none of the even
+  TableAdam adam = createGaussianAdam(1.0, 1, set.count());
+  GaussianSet host = set;
+  std::vector<uint32_t> rowMap;
+  std::mt19937 hostRng(1), deviceRng(1);
+  DensifyStats want = densify(host, stats, config, 600, hostRng, rowMap);
+  REQUIRE(want.cloned == 200);
+  CHECK(rowMap[600] == kNewRow);
+  DeviceGaussians dev = uploadGaussians(ctx, set);
+  GaussianDeviceOptimiser o = createGaussianDeviceOptimiser(ctx, dev.count, kGaussianFloats);
+  uploadGaussianOptimiser(ctx, o, adam, stats);
+  DensifyStats got = densifyOnDevice(ctx, pipelines, dev, o, config, 600, deviceRng);
+  REQUIRE(got.cloned == 200);
+  GaussianSet gotSet = downloadGaussians(ctx, dev);
+  CHECK(gotSet.params == host.params);  // the clones of rows 1, 3, ..., 399, in row order
+  CHECK(host.at(600)[0] == set.at(1)[0]);
+  CHECK(host.at(799)[0] == set.at(399)[0]);
 }

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "engine/base/error.h"
-#include "engine/base/portable_random.h"
+#include "engine/gaussian/densify_split.h"
 #include "engine/gaussian/gaussian_math.h"
 
 namespace refrax {
@@ -22,14 +22,13 @@ float largestSigma(const float* g) {
   return std::exp(std::max(s[0], std::max(s[1], s[2])));
 }
 
-// A child of a split: mean drawn from N(mean, R S^2 R^T), sigmas divided by `divisor`.
-void writeSplitChild(const float* parent, float* child, double divisor, std::mt19937& rng) {
+// Child `child` of the split of row `row`: mean drawn from N(mean, R S^2 R^T) with the
+// counter-based normals of densify_split.glsl (the device's draws), sigmas divided by `divisor`.
+void writeSplitChild(const float* parent, float* child, double divisor, uint32_t key, uint32_t row, uint32_t c) {
   std::copy(parent, parent + kGaussianFloats, child);
   const float* q = parent + f32::kGaussRotation;
-  glm::dmat3 R = f64::rotationOf(glm::dvec4(q[0], q[1], q[2], q[3]));
-  glm::dvec3 local;
-  for (int a = 0; a < 3; a++) local[a] = standardNormal(rng) * std::exp(double(parent[f32::kGaussLogScale + a]));
-  glm::dvec3 offset = R * local;
+  const float* ls = parent + f32::kGaussLogScale;
+  glm::dvec3 offset = f64::splitChildOffset(glm::dvec4(q[0], q[1], q[2], q[3]), glm::dvec3(ls[0], ls[1], ls[2]), key, row, c);
   for (int a = 0; a < 3; a++) {
     child[f32::kGaussMean + a] = float(double(parent[f32::kGaussMean + a]) + offset[a]);
     child[f32::kGaussLogScale + a] = float(double(parent[f32::kGaussLogScale + a]) - std::log(divisor));
@@ -123,10 +122,12 @@ DensifyStats densify(GaussianSet& set, const std::vector<float>& stats, const De
     next.params.insert(next.params.end(), set.at(i), set.at(i) + kGaussianFloats);
     rowMap.push_back(kNewRow);
   }
+  // One draw per densification that may split, as the device's (densify_device.h) draws it.
+  const uint32_t key = densifyDue(config, step) ? uint32_t(rng()) : 0u;
   for (uint32_t i : splits)
-    for (int c = 0; c < 2; c++) {
+    for (uint32_t c = 0; c < 2; c++) {
       next.params.resize(next.params.size() + kGaussianFloats);
-      writeSplitChild(set.at(i), next.params.data() + next.params.size() - kGaussianFloats, config.splitScaleDivisor, rng);
+      writeSplitChild(set.at(i), next.params.data() + next.params.size() - kGaussianFloats, config.splitScaleDivisor, key, i, c);
       rowMap.push_back(kNewRow);
     }
   set = std::move(next);

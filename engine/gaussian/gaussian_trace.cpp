@@ -160,9 +160,13 @@ HitRecords createHitRecords(Context& ctx, uint32_t rays, uint32_t perRay) {
   return r;
 }
 
-GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, const GaussianSet& host,
-                                     ProxyKind kind, bool allowUpdate) {
-  if (host.count() != gaussians.count) fail("buildGaussianProxies: host and device Gaussian counts differ");
+namespace {
+
+// buildGaussianProxies, with the host's copy or without it (then ordered on the device).
+GaussianProxies buildProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, const GaussianSet* hostCopy,
+                             ProxyKind kind, bool allowUpdate) {
+  if (hostCopy && hostCopy->count() != gaussians.count) fail("buildGaussianProxies: host and device Gaussian counts differ");
+  if (!hostCopy && !tracer.orderOnDevice) fail("buildGaussianProxies: no host copy to order the proxies by on this device");
   if (gaussians.count > 0xFFFFFFu) fail("more than 16M Gaussians (instance custom indices have 24 bits)");
   GaussianProxies p;
   // The compute backend has no acceleration structures: the proxies are boxes in a BVH of its own.
@@ -171,9 +175,9 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
   p.kind = kind;
   p.count = gaussians.count;
   p.allowUpdate = allowUpdate;
-  for (uint32_t i = 0; i < p.count; i++) {
+  for (uint32_t i = 0; hostCopy && i < p.count; i++) {
     float box[6];
-    gaussianProxyBox(host.at(i), box);
+    gaussianProxyBox(hostCopy->at(i), box);
     bool clamped = false;
     for (int a = 0; a < 3; a++) clamped = clamped || box[3 + a] - box[a] >= float(2 * f64::kMaxProxyHalfExtent);
     p.clamped += clamped ? 1 : 0;
@@ -215,11 +219,22 @@ GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const
     return p;
   }
   if (p.count) {
-    std::vector<uint32_t> order = gaussianMeansOrder(host);
+    std::vector<uint32_t> order = gaussianMeansOrder(*hostCopy);
     upload(ctx, p.orderBuffer, order.data(), order.size() * sizeof(uint32_t));
   }
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateGaussianProxies(cb, tracer, p, gaussians, false); });
   return p;
+}
+
+}  // namespace
+
+GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, const GaussianSet& host,
+                                     ProxyKind kind, bool allowUpdate) {
+  return buildProxies(ctx, tracer, gaussians, &host, kind, allowUpdate);
+}
+
+GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, ProxyKind kind, bool allowUpdate) {
+  return buildProxies(ctx, tracer, gaussians, nullptr, kind, allowUpdate);
 }
 
 void cmdReorderGaussianProxies(VkCommandBuffer cb, GaussianTracer& tracer, GaussianProxies& p, const DeviceGaussians& gaussians) {

@@ -98,8 +98,9 @@ struct GaussianTracer {
   ComputePipeline bvhRefit;          // the compute trace backend's proxy BVH (engine/trace/box_bvh.h)
   // Where the proxies' median-split order is made: on the device (engine/trace/device_order.h)
   // on a GPU, where it saves reading the Gaussians back; on the host from their means on a CPU
-  // device (lavapipe), where the device's passes cost 15x the host's sort (bench proxy-order).
-  // The two orders are the same (tests/test_device_order.cpp).
+  // device (lavapipe), where the device's passes cost several times the host's sort (bench
+  // proxy-order). The two orders are the same (tests/test_device_order.cpp). Training
+  // densifies on the same side (engine/gaussian/densify_device.h).
   bool orderOnDevice = true;
   std::optional<DeviceOrderPipelines> order;
   Buffer noHitRecords;  // bound where no hit records are written or read
@@ -145,6 +146,10 @@ void gaussianProxyBox(const float* g, float box[6]);
 // is the same Gaussians (the count of clamped boxes, and a host-made order, are taken from it).
 GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, const GaussianSet& host,
                                      ProxyKind kind, bool allowUpdate = true);
+// The same with no host copy (training's Gaussians densified on the device): the order is made
+// on the device (tracer.orderOnDevice must hold) and no clamped boxes are counted.
+GaussianProxies buildGaussianProxies(Context& ctx, GaussianTracer& tracer, const DeviceGaussians& gaussians, ProxyKind kind,
+                                     bool allowUpdate = true);
 // The proxies in the median-split order of the Gaussians' means now (same count), the
 // structures rebuilt, after the Gaussians moved. The order is the one buildGaussianProxies gives
 // the same Gaussians, so a run resumed from a checkpoint traces the tree the uninterrupted run

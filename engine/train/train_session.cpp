@@ -75,12 +75,20 @@ double batchPsnr(const std::vector<float>& a, const std::vector<float>& b, const
 
 }  // namespace
 
-void allocateGaussianBuffers(TrainSession& s) {
+namespace {
+// The step's per-Gaussian buffers for the model's count: gradients, the densification
+// statistic, the density regulariser's partial sums.
+void allocateGaussianBatchBuffers(TrainSession& s) {
   size_t n = std::max<size_t>(1, s.model.gaussians.count());
   s.buffers.grads = createBuffer(*s.model.ctx, n * kGaussianFloats * 4);
   s.buffers.stats = createBuffer(*s.model.ctx, n * 2 * 4);
   s.buffers.densityPartials = createBuffer(*s.model.ctx, size_t(densityPartialCount(uint32_t(n))) * 8);
   if (!s.buffers.densityResult) s.buffers.densityResult = createBuffer(*s.model.ctx, 16);
+}
+}  // namespace
+
+void allocateGaussianBuffers(TrainSession& s) {
+  allocateGaussianBatchBuffers(s);
   if (gaussianStepsOnDevice(s.model.config))
     s.buffers.gaussianOptimiser = createGaussianDeviceOptimiser(*s.model.ctx, uint32_t(s.model.gaussians.count()), kGaussianFloats);
   s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;  // the host's optimiser state is the one to upload
@@ -118,6 +126,12 @@ bool proxyReorderAt(const TrainSession& s, int t) {
 }
 
 void syncGaussians(TrainSession& s, bool countChanged) {
+  if (countChanged && s.buffers.gaussianCopies == StepBuffers::Copies::DeviceNewer) {
+    // densified on the device (densifyOnDeviceStep): its rows are the run's, the host's stale
+    allocateGaussianBatchBuffers(s);
+    s.model.proxies = buildGaussianProxies(*s.model.ctx, s.model.tracer, s.model.device, s.model.proxyKind, true);
+    return;
+  }
   if (countChanged) {
     validateGaussians(s.model.gaussians, "training");
     uploadModelGaussians(s.model);
@@ -796,6 +810,26 @@ bool hostGaussianEventAt(const TrainSession& s, int t) {
   return cloneSplitAt(s, t) || pruneAt(s, t) || restartAt(s, t) || (proxyReorderAt(s, t) && !s.model.tracer.orderOnDevice);
 }
 
+// Clone/split/prune on the device (densify_device.h), where the run steps the Gaussians there
+// and orders their proxies there (a GPU): nothing is read back but the counts. The host's
+// copies follow the count only (the device's values are pulled when the host needs them).
+// True when the table's rows changed.
+bool densifyOnDeviceStep(TrainSession& s, int t) {
+  Context& ctx = *s.model.ctx;
+  pushGaussians(s);  // what the host changed since, before the device densifies
+  HostStage h(ctx, "densification (device)");
+  if (!s.buffers.densifyPipelines) s.buffers.densifyPipelines = createDeviceDensifyPipelines(ctx);
+  const DensifyStats& d = s.log.lastDensify = densifyOnDevice(ctx, *s.buffers.densifyPipelines, s.model.device, *s.buffers.gaussianOptimiser,
+                                                              s.densifyConfig, uint32_t(t), s.state.rng);
+  const size_t n = d.after;
+  s.model.gaussians.params.resize(n * kGaussianFloats);
+  s.state.gaussianAdam.m.resize(n * kGaussianFloats);
+  s.state.gaussianAdam.v.resize(n * kGaussianFloats);
+  s.state.densifyStats.resize(2 * n);
+  s.buffers.gaussianCopies = StepBuffers::Copies::DeviceNewer;
+  return d.prunedLowDensity + d.prunedLarge + d.cloned + d.split > 0;
+}
+
 // Clone/split/prune when due (3DGS strategy), or MCMC's relocation and growth; true when the
 // table's rows changed.
 bool densifyStep(TrainSession& s, int t) {
@@ -804,6 +838,7 @@ bool densifyStep(TrainSession& s, int t) {
   if (c.densifyStrategy == DensifyStrategy::Mcmc) return c.densify && c.schedule.densifyInterval > 0 && mcmcStep(s, t);
   const bool cloneSplit = cloneSplitAt(s, t), prune = pruneAt(s, t);
   if (!cloneSplit && !prune) return false;
+  if (s.buffers.gaussianOptimiser && s.model.tracer.orderOnDevice) return densifyOnDeviceStep(s, t);
   pullGaussians(s);
   s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;  // the statistics restart, rows move
   HostStage h(*s.model.ctx, "densification (host)");
@@ -960,6 +995,7 @@ bool restartStep(TrainSession& s, int t) {
   if (s.model.config.waterSignCheck && s.model.height && waterLearnsAt(s, t)) checkWaterSign(s, t);
   if (s.model.config.waterScaleSearch && s.model.height && waterLearnsAt(s, t)) searchWaterScale(s, t);
   drawGaussians(s);
+  s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;  // the fresh draw is the host's
   return true;
 }
 

@@ -26,6 +26,7 @@
 #include "engine/camera/camera_rays.h"
 #include "engine/dataset/dataset.h"
 #include "engine/gaussian/densify.h"
+#include "engine/gaussian/densify_device.h"
 #include "engine/gaussian/mcmc.h"
 #include "engine/gaussian/gaussian_trace.h"
 #include "engine/height/height_field.h"
@@ -123,6 +124,9 @@ struct StepBuffers {
   // run steps them there (gaussianStepsOnDevice); its moments and statistic sums are the device's
   // copies of TrainingState's.
   std::optional<GaussianDeviceOptimiser> gaussianOptimiser;
+  // Densification on the device (engine/gaussian/densify_device.h), where the run orders its
+  // proxies there too (a GPU: GaussianTracer::orderOnDevice) and steps the Gaussians there.
+  std::optional<DeviceDensifyPipelines> densifyPipelines;
   // Which copy of the Gaussians (model.gaussians, model.device) and of their optimiser's state
   // is current: the device steps them, the host changes them (densification, a restart, a
   // loaded checkpoint); pullGaussians and pushGaussians make the other copy the same.

@@ -1,13 +1,15 @@
 // refrax bench densify: one densification step as the trainer runs it, at --gaussians
 // Gaussians: download the parameters and statistics, densify on the host (about 10% cloned
 // or split, a few % pruned), upload the new set, remap the Adam moments of the six 3DGS
-// parameter groups; plus density decay and reset on the host. Median wall times.
+// parameter groups; the same step on the device (densify_device.h, as a GPU trains); plus
+// density decay and reset on the host. Median wall times.
 #include <cstdio>
 #include <random>
 #include <vector>
 
 #include "engine/gaussian/gaussian_adam.h"
 #include "engine/gaussian/densify.h"
+#include "engine/gaussian/densify_device.h"
 #include "engine/gaussian/gaussians.h"
 #include "engine/vk/vk_buffer.h"
 #include "engine/vk/vk_context.h"
@@ -59,6 +61,22 @@ int runDensifyBench(const cli::Args& args) {
     remapTableAdamRows(adam, rowMap);
   });
   double createMs = bench::medianMs(1, runs, [&] { TableAdam adam = fresh; });  // the copy inside the timed remap
+  // The same step on the device (densify_device.h), as a GPU's training runs it: the table,
+  // its moments and sums stay there; two submissions and seven counts read back.
+  DeviceDensifyPipelines pipelines = createDeviceDensifyPipelines(*ctx);
+  DensifyStats onDevice;
+  double deviceMs = bench::medianMs(1, runs, [&] {
+    DeviceGaussians d = uploadGaussians(*ctx, set);
+    GaussianDeviceOptimiser o = createGaussianDeviceOptimiser(*ctx, n, kGaussianFloats);
+    upload(*ctx, o.statSums, stats.data(), stats.size() * sizeof(float));
+    std::mt19937 r(5);
+    onDevice = densifyOnDevice(*ctx, pipelines, d, o, config, 600, r);
+  });
+  double deviceSetupMs = bench::medianMs(1, runs, [&] {  // the uploads inside the timed device step
+    DeviceGaussians d = uploadGaussians(*ctx, set);
+    GaussianDeviceOptimiser o = createGaussianDeviceOptimiser(*ctx, n, kGaussianFloats);
+    upload(*ctx, o.statSums, stats.data(), stats.size() * sizeof(float));
+  });
   double decayMs = bench::medianMs(1, runs, [&] { densityDecay(result, config); });
   double resetMs = bench::medianMs(1, runs, [&] { densityReset(result, config); });
 
@@ -69,6 +87,11 @@ int runDensifyBench(const cli::Args& args) {
   std::printf("  densify (host)            %8.2f ms\n", densifyMs - copyMs);
   std::printf("  upload new set            %8.2f ms\n", uploadMs);
   std::printf("  remap the Adam table      %8.2f ms\n", remapMs - createMs);
+  const double hostStepMs = downloadMs + densifyMs - copyMs + uploadMs + remapMs - createMs;
+  std::printf("  the host's step, together %8.2f ms\n", hostStepMs);
+  std::printf("  densify on the device     %8.2f ms  (%.2fx the host's step; %u -> %u, the host's counts: %s)\n", deviceMs - deviceSetupMs,
+              (deviceMs - deviceSetupMs) / hostStepMs, onDevice.before, onDevice.after,
+              onDevice.after == last.after && onDevice.cloned == last.cloned && onDevice.split == last.split ? "yes" : "NO");
   std::printf("  density decay (host)      %8.2f ms\n", decayMs);
   std::printf("  density reset (host)      %8.2f ms\n", resetMs);
   return 0;
