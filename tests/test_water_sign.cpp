@@ -343,3 +343,37 @@ TEST_CASE("--sweep-watch's verdict: a new best below the best so far, 1% over fl
   CHECK(sweepWatchVerdict(1.02, 0.9) == SweepWatchVerdict::RollBack);
   CHECK(sweepWatchVerdict(INFINITY, 1.0) == SweepWatchVerdict::RollBack);  // no cell swept
 }
+
+TEST_CASE("--restart-gate: a restart is drawn only below X times flat water's sweep cost") {
+  SweepAgreement a;
+  a.cells = 100, a.reference = 2.0;
+  a.cost = 1.9;  // 0.95x flat water's
+  CHECK(restartGatePasses(a, 0.99));
+  CHECK_FALSE(restartGatePasses(a, 0.95));  // not below
+  a.cost = 2.0;
+  CHECK_FALSE(restartGatePasses(a, 0.99));  // flat water itself: nothing learned to refit to
+  a.cells = 0;
+  CHECK(restartGatePasses(a, 0.99));  // nothing swept: restart, as without the gate
+}
+
+// End to end: one restart step, a gate no water can pass (the sweep costs' ratio is positive)
+// and one every water passes; the run reports each check and restarts only past the second.
+GPU_TEST_CASE("--restart-gate: a run keeps its Gaussians where the gate is shut and draws them afresh where it is open") {
+  test::TrainTempDir dir;
+  const std::string data = test::tinyDataset("nerfrac-primary-sine");
+  const std::string options = " --steps 240 --surface-freeze 40 --restart-gaussians 160 --progress-every 80 --checkpoint-every 0";
+  nlohmann::json shut = test::trainAndReadMetrics(data, dir / "shut", options + " --restart-gate 1e-9");
+  nlohmann::json open = test::trainAndReadMetrics(data, dir / "open", options + " --restart-gate 1e9");
+  REQUIRE(shut.contains("restart_gate_checks"));
+  REQUIRE(open.contains("restart_gate_checks"));
+  CHECK(shut["restart_gate_checks"].size() == 1);
+  CHECK(shut["restart_gate_checks"][0]["step"] == 160);
+  CHECK(shut["restart_gate_checks"][0]["restarted"] == false);
+  CHECK(open["restart_gate_checks"][0]["restarted"] == true);
+  CHECK(shut["restart_gate_checks"][0]["ratio"].get<double>() > 0);
+  // It needs a learned water and a restart to gate.
+  test::checkOneError(test::runCli("train " + data + " -o " + (dir / "bad") + options + " --restart-gate 0.99 --restart-gaussians 0"),
+                      "--restart-gate");
+  test::checkOneError(test::runCli("train " + data + " -o " + (dir / "bad") + options + " --restart-gate 0.99 --flat-water"),
+                      "--restart-gate");
+}

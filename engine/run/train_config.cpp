@@ -111,6 +111,8 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.schedule.surfaceUntil == 0 || c.schedule.surfaceUntil > c.schedule.surfaceFreeze,
        "--surface-until must come after --surface-freeze (" + std::to_string(c.schedule.surfaceFreeze) + "), or the surface never learns");
   for (int r : c.schedule.gaussianRestarts) need(r > 0 && r < c.steps, "--restart-gaussians must be steps after the first and before the last");
+  need(c.restartGate == 0 || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
+       "--restart-gate needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
   need(c.surfaceGate == 0 || (c.model == WaterModel::Refraction && !c.schedule.gaussianRestarts.empty()),
        "--surface-gate needs a learned water (not --no-refraction, --flat-water or --known-water) and --restart-gaussians");
   need(c.knownWaterScale == 1 || c.model == WaterModel::KnownWater, "--known-water-scale needs --known-water");

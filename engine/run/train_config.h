@@ -144,6 +144,14 @@ struct TrainConfig {
   // distortion it made; the sweep does not pass through the Gaussians, so they cannot make it
   // agree. 0 (the reference): no gate.
   double surfaceGate = 0;
+  // At each --restart-gaussians step, the Gaussians are drawn afresh only when the views agree
+  // more through the learned water than through flat water (its plane-sweep cost below
+  // restartGate times the flat water's; RestartGateCheck); otherwise the step passes and they
+  // keep fitting. Why: a restart lets fresh Gaussians fit a water learned since they were drawn;
+  // with no such water it only costs their fit (dev 15, the water held flat by --sweep-watch:
+  // -0.55 dB against straight rays with the two restarts, -0.25 without; one seed,
+  // docs/experiments/2026-12-05-water-valley.md). 0: every restart is drawn. A study option.
+  double restartGate = 0;
   // Every sweepWatch steps while the water learns, and at its last step, sweep the views
   // through the learned water (its plane-sweep cost against the flat water's, SweepWatchCheck);
   // when they agree less through it than through flat water (by more than 1%), the water goes back to the state

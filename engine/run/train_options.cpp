@@ -411,6 +411,11 @@ std::vector<TrainOption> makeTable() {
                    "less through it than through flat water (a plane sweep of each: its cost above X times the flat water's); the "
                    "Gaussians cannot make such a sweep agree (docs/training.md) (0: off)",
                    field(&TrainConfig::surfaceGate), 0, false, inf, false));
+  t.push_back(real("restart-gate", "restart_gate", "X",
+                   "study: at each --restart-gaussians step the Gaussians are drawn afresh only when the training views agree more "
+                   "through the learned water than through flat water (a plane sweep of each: its cost below X times the flat water's); "
+                   "otherwise they keep fitting (0: every restart)",
+                   field(&TrainConfig::restartGate), 0, false, inf, false));
   t.push_back(integer<int>("sweep-watch", "sweep_watch", "N",
                            "study: every N steps while the water learns, and at its last, the training views swept through the learned "
                            "water and through flat water; when they agree less through the learned water, it goes back to the water they "

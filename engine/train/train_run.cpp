@@ -152,6 +152,17 @@ std::string gateLine(const SurfaceGateCheck& c) {
   return text;
 }
 
+// The line after a restart step that --restart-gate passed by.
+std::string restartGateLine(const RestartGateCheck& c) {
+  char text[400];
+  const double ratio = c.agreement.reference > 0 ? c.agreement.cost / c.agreement.reference : 0.0;
+  std::snprintf(text, sizeof text,
+                "step %d: the training views agree no more through the learned water than through flat water (plane-sweep colour "
+                "variance %.3gx flat water's): the Gaussians keep fitting, not drawn afresh (--restart-gate)",
+                c.step, ratio);
+  return text;
+}
+
 // The line after a --sweep-watch check that rolled the water back.
 std::string watchLine(const SweepWatchCheck& c) {
   char text[400];
@@ -273,6 +284,11 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
       return {{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
               {"cells", c.agreement.cells}, {"ratio", ratio(c.agreement)}, {"reset", c.reset}};
     });
+  if (!s.log.restartGateChecks.empty())
+    m["restart_gate_checks"] = jsonRows(s.log.restartGateChecks, [&](const RestartGateCheck& c) -> nlohmann::json {
+      return {{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
+              {"cells", c.agreement.cells}, {"ratio", ratio(c.agreement)}, {"restarted", c.restarted}};
+    });
   if (!s.log.watchChecks.empty())
     m["sweep_watch_checks"] = jsonRows(s.log.watchChecks, [&](const SweepWatchCheck& c) -> nlohmann::json {
       return {{"step", c.step}, {"learned_sweep_cost", c.agreement.cost}, {"flat_sweep_cost", c.agreement.reference},
@@ -320,6 +336,8 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       if (!s.log.scaleSearches.empty() && s.log.scaleSearches.back().step == s.model.step) say(scaleSearchLine(s.log.scaleSearches.back()));
       say("step " + std::to_string(s.model.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
     }
+    if (!s.log.restartGateChecks.empty() && s.log.restartGateChecks.back().step == s.model.step && !s.log.restartGateChecks.back().restarted)
+      say(restartGateLine(s.log.restartGateChecks.back()));
     if (!s.log.watchChecks.empty() && s.log.watchChecks.back().step == s.model.step && s.log.watchChecks.back().rolledBack)
       say(watchLine(s.log.watchChecks.back()));
     watchLoss += r.imageLoss;

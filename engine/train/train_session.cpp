@@ -994,6 +994,14 @@ bool restartStep(TrainSession& s, int t) {
   if (s.model.config.surfaceGate > 0 && s.model.height && waterLearnsAt(s, t)) gateWater(s, t);
   if (s.model.config.waterSignCheck && s.model.height && waterLearnsAt(s, t)) checkWaterSign(s, t);
   if (s.model.config.waterScaleSearch && s.model.height && waterLearnsAt(s, t)) searchWaterScale(s, t);
+  if (s.model.config.restartGate > 0 && s.model.height) {
+    RestartGateCheck check;
+    check.step = t;
+    check.agreement = agreementWithFlatWater(s);
+    check.restarted = restartGatePasses(check.agreement, s.model.config.restartGate);
+    s.log.restartGateChecks.push_back(check);
+    if (!check.restarted) return false;
+  }
   drawGaussians(s);
   s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;  // the fresh draw is the host's
   return true;
@@ -1024,6 +1032,8 @@ DepthMap sweepThroughFlatWater(TrainSession& s, PlaneSweepConfig& pc) {
 // How much more than flat water's sweep cost --sweep-watch lets pass: on dev 7 (whose water the
 // views leave flat) seven checks read 1.0004-1.0042, the runs that ran away 1.03-1.17.
 constexpr double kWatchTolerance = 1.01;
+
+bool restartGatePasses(const SweepAgreement& a, double gate) { return a.cells == 0 || a.cost < gate * a.reference; }
 
 SweepWatchVerdict sweepWatchVerdict(double ratio, double best) {
   if (ratio < best) return SweepWatchVerdict::Best;

@@ -159,6 +159,17 @@ struct SurfaceGateCheck {
   bool reset = false;
 };
 
+// --restart-gate at a restart step: the learned water's plane-sweep agreement against flat
+// water's, and whether the Gaussians were drawn afresh.
+struct RestartGateCheck {
+  int step = 0;
+  SweepAgreement agreement;  // the learned water (cost) against flat water (reference)
+  bool restarted = false;
+};
+// Whether --restart-gate X draws the Gaussians afresh for this agreement: the learned water's
+// sweep cost below X times flat water's (a comparison with no cells restarts, as without it).
+bool restartGatePasses(const SweepAgreement& a, double gate);
+
 // --sweep-watch at a check: the learned water's plane-sweep agreement against flat water's,
 // whether the water went back to the best state so far, and the water's learning rate after.
 struct SweepWatchCheck {
@@ -191,6 +202,7 @@ struct RunLog {
   std::vector<SweepLossPoint> sweepLosses;
   std::vector<SurfaceGateCheck> gateChecks;
   std::vector<SweepWatchCheck> watchChecks;
+  std::vector<RestartGateCheck> restartGateChecks;
   size_t gaussiansAtPoints = 0;  // --init-points: how many of the last drawn Gaussians sit at sparse points
   double sweptCellFraction = 0;  // --init-depth sweep: the last sweep's cells with a depth
   // The learned water's shape over the seen water as of its last surface step (measured by the
