@@ -65,8 +65,27 @@ const TinyComparison& tinyComparison() {
   return c;
 }
 
+// The refraction and straight-ray runs of seeds 1-3 (seed 1: tinyComparison's), for the one
+// comparison a seed decides by more than its bar: the water-removal PSNR, about 0.5 dB apart
+// with a spread of as much.
+constexpr double kWaterRemovalBehindBar = 1.0;
+std::vector<std::pair<nlohmann::json, nlohmann::json>> tinySeedPairs(const TinyComparison& c) {
+  static std::vector<std::pair<nlohmann::json, nlohmann::json>> pairs = [&] {
+    std::vector<std::pair<nlohmann::json, nlohmann::json>> p{{c.refraction, c.plain}};
+    std::string data = test::tinyDataset("nerfrac-primary-sine");
+    for (int seed = 2; seed <= 3; seed++) {
+      const std::string options = std::string(kTinyOptions) + " --seed " + std::to_string(seed);
+      p.push_back({test::trainAndReadMetrics(data, c.dir / ("refraction-" + std::to_string(seed)), options),
+                   test::trainAndReadMetrics(data, c.dir / ("plain-" + std::to_string(seed)), options + " --no-refraction")});
+    }
+    return p;
+  }();
+  return pairs;
+}
+
 // One test case, two subcases: CTest runs each case in a process of its own, and the two
-// trainings behind both (tinyComparison) cost about 30 s here and 90 s under ASan.
+// trainings behind both (tinyComparison) cost about 30 s here and 90 s under ASan; the
+// quality subcase trains two seeds more of each (tinySeedPairs).
 TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measured PSNR, and profiles each stage") {
   const TinyComparison& c = tinyComparison();
   SUBCASE("its outputs and quality") {
@@ -114,12 +133,21 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
     const size_t vertices = readJson(c.dir / "refraction/config.json")["grid_cells"].get<size_t>() + 1;  // the grid the data sized
     CHECK(heights.shape == std::vector<size_t>{vertices, vertices});
     // The straight-ray model's Gaussians sit where the water makes the scene appear, so with the
-    // water removed it must not see the scene much better than the refraction model. Measured
-    // with the model sized from the data (16 x 2 grid, 4 octaves; lavapipe, four runs on two
-    // machines): refraction behind by 0.12 to 0.28 dB; with the refraction planted wrong
-    // (eta = n_water instead of 1 / n_water) behind by 1.28 dB in each of two runs. (With the earlier fixed
-    // 64 x 2 grid and 6 octaves it was ahead by 0.03 to 0.35 dB.)
-    CHECK(c.refraction["water_removal_psnr"].get<double>() >= c.plain["water_removal_psnr"].get<double>() - 0.6);
+    // water removed it must not see the scene much better than the refraction model, on the
+    // median of three seeds (the pairs below). Measured with the model sized from the data (16 x 2
+    // grid, 4 octaves; lavapipe): refraction behind by 0.27, 0.87 and 0.44 dB at seeds 1-3 at
+    // 72305e4, by 0.86, 0.54 and 0.87 at 27fed7b (whose random draws differ: over seeds 1-7 the
+    // refraction's water-removal PSNR has medians 16.62 and 16.53 dB, spreads 0.45 and 0.99),
+    // so one seed against the earlier bar of 0.6 dB passed about as often as it failed; with the
+    // refraction planted wrong (eta = n_water instead of 1 / n_water) behind by 1.28 dB in each of
+    // two runs of seed 1 (earlier), and by 1.22, 1.53 and 1.98 at seeds 1-3 planted again at
+    // 27fed7b (median 1.53: fails).
+    std::vector<double> behind;
+    for (const auto& [refraction, plain] : tinySeedPairs(c))
+      behind.push_back(plain["water_removal_psnr"].get<double>() - refraction["water_removal_psnr"].get<double>());
+    std::sort(behind.begin(), behind.end());
+    INFO("refraction's water-removal PSNR behind straight rays', seeds 1-3: " << behind[0] << ", " << behind[1] << ", " << behind[2]);
+    CHECK(behind[1] <= kWaterRemovalBehindBar);
     // The four views between the rig's training cameras (refrax synth's between/), reported
     // apart from the protocol's test view: views of the same water and floor from inside the
     // rig, so as well fitted. Measured (lavapipe, 300 steps): 0.44 and 0.66 dB over the test
