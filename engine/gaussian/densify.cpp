@@ -19,7 +19,7 @@ bool stepCondition(uint32_t step, uint32_t from, uint32_t until, uint32_t interv
 double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
 float largestSigma(const float* g) {
   const float* s = g + f32::kGaussLogScale;
-  return std::exp(std::max(s[0], std::max(s[1], s[2])));
+  return f32::largestSigmaOf(glm::vec3(s[0], s[1], s[2]));
 }
 
 // Child `child` of the split of row `row`: mean drawn from N(mean, R S^2 R^T) with the

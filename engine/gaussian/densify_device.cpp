@@ -27,19 +27,15 @@ struct ScatterPush {  // densify_scatter.comp
 // densify_fate.comp's counters, then the scan's slots of the clones, the split parents and the end.
 enum ReadBack : uint32_t { kPrunedLow, kPrunedLarge, kCandidates, kCappedOut, kClonesStart, kSplitsStart, kEnd, kReadBackWords };
 
-ComputePipeline pipeline(Context& ctx, const char* name, uint32_t buffers, uint32_t pushBytes) {
-  return createComputePipeline(ctx, name, std::vector<VkDescriptorType>(buffers, kStorageBuffer), pushBytes);
-}
-
 Buffer words(Context& ctx, uint64_t n) { return createBuffer(ctx, VkDeviceSize(std::max<uint64_t>(n, 1)) * sizeof(uint32_t)); }
 
 }  // namespace
 
 DeviceDensifyPipelines createDeviceDensifyPipelines(Context& ctx) {
   DeviceDensifyPipelines p;
-  p.fate = pipeline(ctx, "densify_fate", 6, sizeof(FatePush));
-  p.accept = pipeline(ctx, "densify_accept", 5, sizeof(AcceptPush));
-  p.scatter = pipeline(ctx, "densify_scatter", 9, sizeof(ScatterPush));
+  p.fate = createComputePipeline(ctx, "densify_fate", storageBuffers(6), sizeof(FatePush));
+  p.accept = createComputePipeline(ctx, "densify_accept", storageBuffers(5), sizeof(AcceptPush));
+  p.scatter = createComputePipeline(ctx, "densify_scatter", storageBuffers(9), sizeof(ScatterPush));
   p.order = createDeviceOrderPipelines(ctx);
   return p;
 }

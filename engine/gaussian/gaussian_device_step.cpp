@@ -31,7 +31,7 @@ constexpr uint32_t kMaxGroups = 16;
 
 GaussianDeviceOptimiser createGaussianDeviceOptimiser(Context& ctx, uint32_t rows, uint32_t rowWidth) {
   GaussianDeviceOptimiser o;
-  o.pipeline = createComputePipeline(ctx, "gaussian_step", std::vector<VkDescriptorType>(7, kStorageBuffer), sizeof(StepPush));
+  o.pipeline = createComputePipeline(ctx, "gaussian_step", storageBuffers(7), sizeof(StepPush));
   o.rows = rows;
   o.rowWidth = rowWidth;
   const VkDeviceSize table = VkDeviceSize(std::max<uint32_t>(rows, 1)) * rowWidth * sizeof(float);

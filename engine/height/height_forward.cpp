@@ -40,7 +40,7 @@ ForwardForm forwardForm(const HeightField& hf) {
 
 const ComputePipeline& generatedPipeline(const HeightField& hf, const std::string& name, uint32_t buffers) {
   return heightPipeline(hf, name, [&] {
-    return createComputePipeline(*hf.ctx, name.c_str(), std::vector<VkDescriptorType>(buffers, kStorageBuffer), sizeof(HeightPush),
+    return createComputePipeline(*hf.ctx, name.c_str(), storageBuffers(buffers), sizeof(HeightPush),
                                   {specFloat(3, hf.config.leakySlope)});
   });
 }

@@ -23,25 +23,21 @@ struct KeysPush {  // median_keys.comp
   uint32_t n, stride, offset;
 };
 
-ComputePipeline pipeline(Context& ctx, const char* name, uint32_t buffers, uint32_t pushBytes) {
-  return createComputePipeline(ctx, name, std::vector<VkDescriptorType>(buffers, kStorageBuffer), pushBytes);
-}
-
 VkDeviceSize words(uint64_t n) { return VkDeviceSize(std::max<uint64_t>(n, 1)) * sizeof(uint32_t); }
 
 }  // namespace
 
 DeviceOrderPipelines createDeviceOrderPipelines(Context& ctx) {
   DeviceOrderPipelines p;
-  p.scanBlocks = pipeline(ctx, "scan_blocks", 2, 4);
-  p.scanBlockSums = pipeline(ctx, "scan_block_sums", 1, 4);
-  p.scanAdd = pipeline(ctx, "scan_add", 2, 4);
-  p.radixCount = pipeline(ctx, "radix_count", 2, sizeof(RadixPush));
-  p.radixScatter = pipeline(ctx, "radix_scatter", 5, sizeof(RadixPush));
-  p.medianKeys = pipeline(ctx, "median_keys", 4, sizeof(KeysPush));
-  p.medianFlags = pipeline(ctx, "median_flags", 3, sizeof(LevelPush));
-  p.medianMark = pipeline(ctx, "median_mark", 3, 4);
-  p.medianPartition = pipeline(ctx, "median_partition", 4, sizeof(LevelPush));
+  p.scanBlocks = createComputePipeline(ctx, "scan_blocks", storageBuffers(2), 4);
+  p.scanBlockSums = createComputePipeline(ctx, "scan_block_sums", storageBuffers(1), 4);
+  p.scanAdd = createComputePipeline(ctx, "scan_add", storageBuffers(2), 4);
+  p.radixCount = createComputePipeline(ctx, "radix_count", storageBuffers(2), sizeof(RadixPush));
+  p.radixScatter = createComputePipeline(ctx, "radix_scatter", storageBuffers(5), sizeof(RadixPush));
+  p.medianKeys = createComputePipeline(ctx, "median_keys", storageBuffers(4), sizeof(KeysPush));
+  p.medianFlags = createComputePipeline(ctx, "median_flags", storageBuffers(3), sizeof(LevelPush));
+  p.medianMark = createComputePipeline(ctx, "median_mark", storageBuffers(3), 4);
+  p.medianPartition = createComputePipeline(ctx, "median_partition", storageBuffers(4), sizeof(LevelPush));
   return p;
 }
 

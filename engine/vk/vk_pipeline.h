@@ -49,6 +49,8 @@ constexpr VkDescriptorType kStorageImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 
 ComputePipeline createComputePipeline(Context& ctx, const char* shaderName, std::vector<VkDescriptorType> bindings,
                                       uint32_t pushBytes, const std::vector<SpecConstant>& spec = {});
+// The bindings of a shader whose resources are all storage buffers.
+inline std::vector<VkDescriptorType> storageBuffers(uint32_t count) { return std::vector<VkDescriptorType>(count, kStorageBuffer); }
 
 // One resource bound at one binding of a dispatch.
 struct Binding {

@@ -31,7 +31,7 @@ void main() {
   uint room = pc.maxGaussians > kept ? pc.maxGaussians - kept : 0u;
   bool accepted = f == kCandidate && j < room;  // the candidates come first, by decreasing statistic
   uint b = e * kGaussFloats;
-  float largest = exp(max(param[b + kGaussLogScale], max(param[b + kGaussLogScale + 1u], param[b + kGaussLogScale + 2u])));
+  float largest = largestSigmaOf(vec3(param[b + kGaussLogScale], param[b + kGaussLogScale + 1u], param[b + kGaussLogScale + 2u]));
   bool clone = accepted && largest <= pc.cloneLimit;
   bool split = accepted && !clone;
   marks[e] = (f == kKeep || (f == kCandidate && !split)) ? 1u : 0u;

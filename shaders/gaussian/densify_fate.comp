@@ -28,7 +28,7 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.n) return;
   uint b = i * kGaussFloats;
-  float largest = exp(max(param[b + kGaussLogScale], max(param[b + kGaussLogScale + 1u], param[b + kGaussLogScale + 2u])));
+  float largest = largestSigmaOf(vec3(param[b + kGaussLogScale], param[b + kGaussLogScale + 1u], param[b + kGaussLogScale + 2u]));
   uint f = kKeep;
   if (pc.pruneDue != 0u) {
     if (param[b + kGaussLogitDensity] < pc.minLogit) f = kPrunedLow;

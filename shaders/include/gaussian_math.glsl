@@ -46,6 +46,10 @@ SHARED_FN real decayedLogit(real x, real f, real floorLogit) {
 }
 
 // Rotation of a (not necessarily unit) quaternion q = (w, x, y, z).
+// The largest of a Gaussian's sigmas, from its log scales: densification's clone/split and
+// large-prune test (engine/gaussian/densify.h), the same on the host and the device.
+SHARED_FN real largestSigmaOf(real3 logScale) { return exp(max(logScale.x, max(logScale.y, logScale.z))); }
+
 SHARED_FN real3x3 rotationOf(real4 q) {
   real4 u = q / length(q);
   real w = u.x, x = u.y, y = u.z, z = u.w;

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "engine/gaussian/gaussian_math.h"
+#include "engine/gaussian/gaussian_trace.h"
 #include "engine/gaussian/gaussians.h"
 #include "engine/trace/device_order.h"
-#include "engine/trace/presort.h"
 #include "engine/vk/vk_buffer.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
@@ -18,15 +18,6 @@
 
 namespace refrax {
 namespace {
-
-std::vector<uint32_t> hostOrder(const GaussianSet& set) {
-  std::vector<Box> means(set.count());
-  for (size_t i = 0; i < set.count(); i++) {
-    const float* mu = set.at(i) + f32::kGaussMean;
-    means[i] = Box{mu[0], mu[1], mu[2], mu[0], mu[1], mu[2]};
-  }
-  return medianSplitOrder(means);
-}
 
 int runProxyOrderBench(const cli::Args& args) {
   auto ctx = cli::openContext(args);
@@ -37,7 +28,7 @@ int runProxyOrderBench(const cli::Args& args) {
   Buffer hostBuilt = createBuffer(*ctx, VkDeviceSize(n) * 4), deviceBuilt = createBuffer(*ctx, VkDeviceSize(n) * 4);
 
   double hostMs = bench::medianMs(1, runs, [&] {
-    std::vector<uint32_t> order = hostOrder(downloadGaussians(*ctx, dev));
+    std::vector<uint32_t> order = gaussianMeansOrder(downloadGaussians(*ctx, dev));
     upload(*ctx, hostBuilt, order.data(), order.size() * 4);
   });
   DeviceOrderPipelines pipelines = createDeviceOrderPipelines(*ctx);
