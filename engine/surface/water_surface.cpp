@@ -181,6 +181,10 @@ void cmdClearPointCache(VkCommandBuffer cb, WaterSurface& ws) {
 }
 }  // namespace
 
+uint32_t cachedPointsBoundAfterTrace(const WaterSurface& ws, uint32_t rays) {
+  return uint32_t(std::min<uint64_t>(ws.pointCapacity, uint64_t(ws.cachedPoints) + uint64_t(rays) * insertsPerRay(ws.config.subdivisionLevels)));
+}
+
 bool surfaceCacheHasRoom(const WaterSurface& ws, uint32_t rays) {
   // A table the size of the lattice holds every point there is.
   return ws.pointCapacity >= ws.latticePoints ||
@@ -514,6 +518,49 @@ void cmdApplyAddedGradient(VkCommandBuffer cb, WaterSurface& ws) {
   ws.addedPending = ws.addedStartsSum = false;
 }
 
+bool cmdListAndPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, uint32_t cachedBound) {
+  if (!heights.accumulateGradients) fail("water surface: a gradient push into a height source without parameters");
+  // The points with a gradient listed on the device: the coarse grid's, then the cache's up to
+  // the bound (slots past the cache's count hold a zero gradient: a sum starts by clearing them
+  // all, and the cache only grows while a sum is pending), so a bound over the count lists the
+  // same points.
+  cachedBound = std::min(cachedBound, ws.pointCapacity);
+  ws.gradientPending = false;  // taken by this push (what follows may update the surface)
+  cmdApplyAddedGradient(cb, ws);
+  vkCmdFillBuffer(cb, ws.pushCount.buffer, 0, VK_WHOLE_SIZE, 0);
+  cmdBarrier(cb);
+  uint32_t n = ws.gridPointCount;
+  cmdDispatch(cb, ws.pipelines.compact, {bind(ws.gridPoints), bind(ws.gridGrad), bind(ws.pushPoints), bind(ws.pushGrads), bind(ws.pushCount)}, &n,
+              groupsFor(n, 64));
+  n = cachedBound;
+  if (n) {
+    cmdBarrier(cb);
+    cmdDispatch(cb, ws.pipelines.compact, {bind(ws.points), bind(ws.pointGrad), bind(ws.pushPoints), bind(ws.pushGrads), bind(ws.pushCount)}, &n,
+                groupsFor(n, 64));
+  }
+  cmdBarrier(cb);
+  profileStage(cb, *ws.ctx, "water backward: points with a gradient");
+  if (!heights.accumulateQueued || !heights.accumulateQueued(cb, ws.pushPoints, ws.pushGrads, ws.pushCount, ws.gridPointCount + cachedBound))
+    return false;
+  cmdBarrier(cb);
+  profileStage(cb, *ws.ctx, "water backward: to weights");
+  return true;
+}
+
+void pushListedSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights, const std::function<void(VkCommandBuffer)>& then) {
+  uint32_t listed = 0;
+  download(ctx, ws.pushCount, &listed, 4);
+  if (!listed && !then) return;
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    if (listed) {
+      heights.accumulateGradients(cb, ws.pushPoints, ws.pushGrads, listed);
+      cmdBarrier(cb);
+      profileStage(cb, ctx, "water backward: to weights");
+    }
+    if (then) then(cb);
+  });
+}
+
 void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights, const std::function<void(VkCommandBuffer)>& then) {
   auto thenAlone = [&] {
     if (then) submitAndWait(ctx, then);
@@ -523,43 +570,14 @@ void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& he
     ws.gradientPending = ws.addedPending = false;
     return thenAlone();
   }
-  // The points with a gradient listed on the device; where the source can run on the count
-  // the device wrote, their push (and `then`) follow in the same submission, else the count is
-  // read back and the push is a second one.
-  const uint32_t bound = ws.gridPointCount + ws.cachedPoints;
+  // Where the source can run on the count the device wrote, the push (and `then`) follow the
+  // listing in the same submission, else the count is read back and the push is a second one.
   bool queued = false;
-  ws.gradientPending = false;  // taken by the push below (`then` may update the surface)
   submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    cmdApplyAddedGradient(cb, ws);
-    vkCmdFillBuffer(cb, ws.pushCount.buffer, 0, VK_WHOLE_SIZE, 0);
-    cmdBarrier(cb);
-    uint32_t n = ws.gridPointCount;
-    cmdDispatch(cb, ws.pipelines.compact, {bind(ws.gridPoints), bind(ws.gridGrad), bind(ws.pushPoints), bind(ws.pushGrads), bind(ws.pushCount)},
-                &n, groupsFor(n, 64));
-    n = ws.cachedPoints;
-    if (n) {
-      cmdBarrier(cb);
-      cmdDispatch(cb, ws.pipelines.compact, {bind(ws.points), bind(ws.pointGrad), bind(ws.pushPoints), bind(ws.pushGrads), bind(ws.pushCount)},
-                  &n, groupsFor(n, 64));
-    }
-    cmdBarrier(cb);
-    profileStage(cb, ctx, "water backward: points with a gradient");
-    queued = heights.accumulateQueued && heights.accumulateQueued(cb, ws.pushPoints, ws.pushGrads, ws.pushCount, bound);
-    if (!queued) return;
-    cmdBarrier(cb);
-    profileStage(cb, ctx, "water backward: to weights");
-    if (then) then(cb);
+    queued = cmdListAndPushSurfaceGradients(cb, ws, heights, ws.cachedPoints);
+    if (queued && then) then(cb);
   });
-  if (queued) return;
-  uint32_t listed = 0;
-  download(ctx, ws.pushCount, &listed, 4);
-  if (!listed) return thenAlone();
-  submitAndWait(ctx, [&](VkCommandBuffer cb) {
-    heights.accumulateGradients(cb, ws.pushPoints, ws.pushGrads, listed);
-    cmdBarrier(cb);
-    profileStage(cb, ctx, "water backward: to weights");
-    if (then) then(cb);
-  });
+  if (!queued) pushListedSurfaceGradients(ctx, ws, heights, then);
 }
 
 void cmdBackwardSurface(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, const Buffer& records,

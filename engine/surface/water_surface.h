@@ -161,6 +161,18 @@ void cmdPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightS
 // `then` (the optimiser's step, say) is recorded into the last submission, after the push.
 void pushSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights,
                           const std::function<void(VkCommandBuffer)>& then = {});
+// pushSurfaceGradients' parts, for a push recorded into a submission of its own caller's (a
+// training step's, after its backward; issue 48). Records the listing of the pending gradient
+// (the coarse grid and the first `cachedBound` cache slots: any bound at or over the cache's
+// count, which a trace in the same submission may still raise) and, where the source can run
+// on the count the device wrote, the push; returns whether it recorded the push. Where it did
+// not, pushListedSurfaceGradients after the submission's wait reads the count and pushes, with
+// `then`, in a second submission.
+bool cmdListAndPushSurfaceGradients(VkCommandBuffer cb, WaterSurface& ws, const HeightSource& heights, uint32_t cachedBound);
+void pushListedSurfaceGradients(Context& ctx, WaterSurface& ws, const HeightSource& heights, const std::function<void(VkCommandBuffer)>& then = {});
+// The most points the cache may hold after a trace of `rays` rays: a bound for
+// cmdListAndPushSurfaceGradients recorded after that trace.
+uint32_t cachedPointsBoundAfterTrace(const WaterSurface& ws, uint32_t rays);
 // Adds scale * g (one value per coarse grid slot, gridPointCount) to the pending dL/dheight
 // (a prior's gradient), starting a new sum when none is pending. No submission of its own: g is
 // written where the device reads it, and the add is recorded at the head of the next backward

@@ -680,45 +680,72 @@ void addSweepLossGradient(TrainSession& s, int t, double weight) {
 // dL/dheight into the parameters, one Adam step, and the surface lifted again (the next
 // encoding window, the mean height anchored). The heights do not change between surface
 // steps, so the batch's gradient is the sum of its steps' gradients at one surface.
-void surfaceStep(TrainSession& s, int t) {
-  Context& ctx = *s.model.ctx;
-  WaterSurface& ws = *s.model.surface;
-  const int batchSteps = std::min(surfaceBatchSteps(s), t - s.model.config.schedule.surfaceFreeze);
+// Its parts: the host's gradients (the sweep loss, the priors), the device's update (after the
+// push), and the host's checks of the heights it lifted. A step whose surface step needs no
+// tracing of its own (no sweep loss due) records the update into the batch's submission
+// (surfaceStepInBatch, trainStep).
+int surfaceBatchStepsAt(const TrainSession& s, int t) { return std::min(surfaceBatchSteps(s), t - s.model.config.schedule.surfaceFreeze); }
+
+bool sweepLossAt(const TrainSession& s, int t) {
   const int surfaceSteps = (t - s.model.config.schedule.surfaceFreeze) / surfaceBatchSteps(s);
-  if (s.model.config.sweepLoss > 0 && s.model.height && surfaceSteps % s.model.config.sweepLossEvery == 0) {
-    HostStage h(ctx, "sweep loss");
-    addSweepLossGradient(s, t, s.model.config.sweepLoss * double(batchSteps));
+  return s.model.config.sweepLoss > 0 && s.model.height && surfaceSteps % s.model.config.sweepLossEvery == 0;
+}
+
+void addSurfacePriorGradient(TrainSession& s, int t) {
+  if (!priorOn(s)) return;
+  HostStage h(*s.model.ctx, "water prior (host)");
+  ensureSurfacePrior(s);
+  addGridGradient(*s.model.ctx, *s.model.surface, s.water.priorGrad, double(surfaceBatchStepsAt(s, t)));
+}
+
+// After the push: the water's Adam step, the next encoding window, the surface lifted and its
+// coarse heights copied where the host reads them.
+void cmdWaterAdamAndLift(VkCommandBuffer cb, TrainSession& s, int t) {
+  AdamSettings settings;
+  settings.agreementPower = s.model.config.surfaceAgreement;
+  cmdBarrier(cb);
+  cmdAdamStep(cb, s.water.adamPipelines, s.water.heightAdam, s.model.height->weights, s.water.heightGrad, 0, true, settings);
+  cmdBarrier(cb);
+  profileStage(cb, *s.model.ctx, "water adam");
+  s.model.height->config.encodingWindow = encodingWindowAfterStep(s.model.config, t, surfaceBatchSteps(s));
+  cmdUpdateSurface(cb, *s.model.surface, *s.model.height);
+  cmdCopyLiftedHeights(cb, s);
+}
+
+// After the lift's wait: the mean height anchored and the heights checked.
+void finishSurfaceStep(TrainSession& s, int t) {
+  if (s.model.height) {
+    noteLiftedHeights(s);
+    HostStage h(*s.model.ctx, "water anchor (host)");
+    anchorMeanHeight(s);
   }
-  if (priorOn(s)) {
-    HostStage h(ctx, "water prior (host)");
-    ensureSurfacePrior(s);
-    addGridGradient(ctx, ws, s.water.priorGrad, double(batchSteps));
+  HostStage h(*s.model.ctx, "water divergence check (host)");
+  requireSurfaceInScene(s, t);
+}
+
+void surfaceStep(TrainSession& s, int t) {
+  if (sweepLossAt(s, t)) {
+    HostStage h(*s.model.ctx, "sweep loss");
+    addSweepLossGradient(s, t, s.model.config.sweepLoss * double(surfaceBatchStepsAt(s, t)));
   }
+  addSurfacePriorGradient(s, t);
   if (s.model.height) {
     // the push, the water's Adam step and the surface update in one submission
     // (pushSurfaceGradients: two where the push's count must be read back)
-    pushWaterGradient(s, [&](VkCommandBuffer cb) {
-      AdamSettings settings;
-      settings.agreementPower = s.model.config.surfaceAgreement;
-      cmdBarrier(cb);
-      cmdAdamStep(cb, s.water.adamPipelines, s.water.heightAdam, s.model.height->weights, s.water.heightGrad, 0, true, settings);
-      cmdBarrier(cb);
-      profileStage(cb, ctx, "water adam");
-      s.model.height->config.encodingWindow = encodingWindowAfterStep(s.model.config, t, surfaceBatchSteps(s));
-      cmdUpdateSurface(cb, ws, *s.model.height);
-      cmdCopyLiftedHeights(cb, s);
-    });
-    noteLiftedHeights(s);
-    HostStage h(ctx, "water anchor (host)");
-    anchorMeanHeight(s);
+    pushWaterGradient(s, [&](VkCommandBuffer cb) { cmdWaterAdamAndLift(cb, s, t); });
   } else {
     pushWaterGradient(s);
     planeAdamStep(s, s.water.planeGrad);
     s.water.planeGrad = 0;
     liftSurface(s.model);
   }
-  HostStage h(ctx, "water divergence check (host)");
-  requireSurfaceInScene(s, t);
+  finishSurfaceStep(s, t);
+}
+
+// Whether step t's surface step is recorded into its batch's submission: the height field
+// learns (the flat plane's step is the host's), and no sweep loss traces views of its own first.
+bool surfaceStepInBatch(const TrainSession& s, int t) {
+  return s.surfaceStepInBatch && surfaceStepAt(s, t) && s.model.height && !sweepLossAt(s, t);
 }
 
 // The density regulariser (docs/method.md, the opacity term of the loss) on the device, after
@@ -1082,11 +1109,29 @@ StepResult trainStep(TrainSession& s) {
   // A device step with nothing for the host to change after it refits the proxies in its own
   // command buffer: one submission fewer (issue 48).
   const bool proxiesInBatch = s.buffers.gaussianOptimiser.has_value() && !hostGaussianEventAt(s, t);
+  double priorEnergy = 0;  // of the surface this step traces
+  if (waterLearnsAt(s, t) && priorOn(s)) {
+    HostStage h(*s.model.ctx, "water prior (host)");
+    ensureSurfacePrior(s);
+    priorEnergy = s.water.priorEnergy;
+  }
+  // The water's surface step in the batch's submission, after its backward: one submission a
+  // step instead of two (issue 48). Where the push needs its count read back, the rest of it
+  // follows the wait (pushListedSurfaceGradients).
+  const bool surfaceInBatch = surfaceStepInBatch(s, t);
+  enum class InBatchPush { None, Listed, Pushed } surfacePush = InBatchPush::None;
   const BatchForward forward = forwardBatch(s, batch, opt, [&](VkCommandBuffer cb, const BatchContext& context) {
+    if (surfaceInBatch) addSurfacePriorGradient(s, t);  // written before the backward that adds it is recorded
     vkCmdFillBuffer(cb, s.buffers.grads.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cb, s.buffers.stats.buffer, 0, VK_WHOLE_SIZE, 0);
     cmdBarrier(cb);
     cmdBackwardBatch(cb, s, context, waterLearnsAt(s, t) && !s.model.config.sweepLossOnly);
+    if (surfaceInBatch && s.model.surface->gradientPending) {
+      const bool pushed = cmdListAndPushSurfaceGradients(cb, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad),
+                                                         cachedPointsBoundAfterTrace(*s.model.surface, context.rays()));
+      surfacePush = pushed ? InBatchPush::Pushed : InBatchPush::Listed;
+      if (pushed) cmdWaterAdamAndLift(cb, s, t);
+    }
     cmdDensityLoss(cb, s);
     if (s.buffers.gaussianOptimiser) cmdGaussianDeviceStep(cb, s, t, batch.rays());
     if (proxiesInBatch) {
@@ -1100,13 +1145,16 @@ StepResult trainStep(TrainSession& s) {
   }, progressDue);
   StepResult r;
   if (s.model.surface) r.missed = s.model.surface->lastCounters.missed;  // before a restart's plane sweep traces again
-  double priorEnergy = 0;  // of the surface this step traced
-  if (waterLearnsAt(s, t) && priorOn(s)) {
-    HostStage h(*s.model.ctx, "water prior (host)");
-    ensureSurfacePrior(s);
-    priorEnergy = s.water.priorEnergy;
+  if (surfaceInBatch) {
+    const auto adamAndLift = [&](VkCommandBuffer cb) { cmdWaterAdamAndLift(cb, s, t); };
+    if (surfacePush == InBatchPush::Listed)
+      pushListedSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad), adamAndLift);
+    else if (surfacePush == InBatchPush::None)
+      pushWaterGradient(s, adamAndLift);  // nothing was pending: the Adam step alone, as surfaceStep takes it
+    finishSurfaceStep(s, t);
+  } else if (surfaceStepAt(s, t)) {
+    surfaceStep(s, t);
   }
-  if (surfaceStepAt(s, t)) surfaceStep(s, t);
   if (sweepWatchAt(s, t)) {
     HostStage h(*s.model.ctx, "sweep watch");
     watchWater(s, t);

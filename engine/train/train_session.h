@@ -229,6 +229,10 @@ struct TrainSession {
   DensifyConfig densifyConfig;
   McmcConfig mcmcConfig;
   RunLog log;
+  // The water's surface step recorded into its batch's submission where it can be (trainStep):
+  // one submission a step. False: a submission of its own after the batch's, as before (tests
+  // compare the two).
+  bool surfaceStepInBatch = true;
 };
 
 // Loads nothing: `dataset` and `config` (resolved) are given. Initialises the Gaussians,
