@@ -13,6 +13,7 @@
 #include "engine/io/json_io.h"
 #include "engine/train/checkpoint.h"
 #include "engine/train/train_run.h"
+#include "engine/vk/vk_profile.h"
 #include "tests/gpu_test.h"
 #include "tests/train_test_util.h"
 
@@ -71,6 +72,16 @@ void checkModelMatchesSession(Context& ctx, int steps, Change change) {
     RenderedView fromModel = renderView(*model, camera, water), fromSession = renderView(session->model, camera, water);
     CHECK(largestDifference(fromModel.image.pixels, fromSession.image.pixels) <= 1e-5);  // a wrong water: 0.02
     CHECK(fromModel.missed == fromSession.missed);
+    // An image alone (refrax render) is one submission where the water's trace is one, the
+    // same image and misses as the stages' path (issue 48).
+    GpuProfiler counter;
+    attachProfiler(ctx, counter);
+    RenderedView alone = renderView(*model, camera, water, SwapSurface{}, RenderOptions{false, nullptr});
+    detachProfiler(ctx);
+    CHECK(alone.image.pixels == fromModel.image.pixels);
+    CHECK(alone.missed == fromModel.missed);
+    const bool oneTrace = water == WaterView::Remove || !model->surface || traceIsOneSubmission(*model->surface, currentHeightSource(*model), uint32_t(camera.width * camera.height));
+    if (oneTrace) CHECK(counter.submits == 1);
   }
   // A render larger than the dataset's images grows the model's ray buffers (and its surface).
   Camera large = camera;

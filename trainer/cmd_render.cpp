@@ -19,6 +19,7 @@
 #include "engine/model/render_model.h"
 #include "engine/model/open_model.h"
 #include "engine/vk/vk_context.h"
+#include "engine/vk/vk_profile.h"
 #include "engine/app/cli.h"
 
 namespace refrax {
@@ -115,7 +116,8 @@ int runRender(const cli::Args& args) {
   for (const auto& [name, cam] : cameras) std::printf("wrote %s\n", (fs::path(out) / name).string().c_str());
   if (benchmark > 0) {
     // Every view again, `benchmark` times, after the renders above built the pipelines: the
-    // frame time of a headless render (camera rays, water, Gaussians, download) on this device.
+    // frame time of a headless render (camera rays, water, Gaussians, the results' copy to the
+    // host and the host's image) on this device.
     std::vector<std::pair<std::string, double>> stages;
     auto t0 = std::chrono::steady_clock::now();
     for (long k = 0; k < benchmark; k++) {
@@ -133,7 +135,13 @@ int runRender(const cli::Args& args) {
       std::snprintf(part, sizeof part, "%s%s %.2f", breakdown.empty() ? "" : ", ", stage.c_str(), total / frames);
       breakdown += part;
     }
-    std::printf("benchmark: per frame (ms): %s\n", breakdown.c_str());
+    // One frame more, its submissions counted (a profiler's own readbacks kept out of the times above).
+    GpuProfiler counter;
+    attachProfiler(*ctx, counter);
+    renderView(*model, cameras.front().second, mode, swapSurface, RenderOptions{false, nullptr});
+    detachProfiler(*ctx);
+    std::printf("benchmark: per frame (ms): %s (the device's timestamps, the host's image); %llu submission%s a frame\n", breakdown.c_str(),
+                static_cast<unsigned long long>(counter.submits), counter.submits == 1 ? "" : "s");
     if (mode != WaterView::Swap) {
       // The same rays through the Gaussians alone: how much of a frame is not the trace.
       double trace = 0;

@@ -64,6 +64,7 @@ struct Model {
   uint32_t capacity = 0;
   CameraRayPipelines rayPipelines;
   Buffer rays, refracted, records, results;
+  Buffer resultsReadback;  // where an image's render copies the results for the host (renderView)
 };
 
 // The device objects of config's model: tracer, ray buffers for the dataset's largest image,

@@ -10,6 +10,7 @@
 #include "engine/surface/surface_record.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
+#include "engine/vk/vk_timer.h"
 
 namespace refrax {
 
@@ -78,6 +79,70 @@ struct StageClock {
 
 }  // namespace
 
+namespace {
+
+// An image alone, the learned or a closed-form water kept or the water removed, in one
+// submission where the surface's trace is one (issue 48): the camera rays before the water's
+// trace, the Gaussians and the copy of their results to where the host reads them after it, no
+// wait between. Stage milliseconds from the device's timestamps (where it has them) and the
+// host's clamp.
+RenderedView renderImage(Model& m, const Camera& camera, WaterSurface* surface, const HeightSource& source, const RenderOptions& options) {
+  Context& ctx = *m.ctx;
+  const uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  const VkDeviceSize bytes = VkDeviceSize(n) * sizeof(GpuTraceResult);
+  if (!m.resultsReadback.buffer || m.resultsReadback.size < bytes) m.resultsReadback = createBuffer(ctx, bytes, 0, MemoryUse::Readback);
+  GpuTimer timer;
+  const bool stamped = options.stageMs && ctx.caps.timestamps;
+  if (stamped) createTimer(ctx, timer, 8);
+  const TraceOptions opt = viewTraceOptions(m);
+  const Buffer& traced = surface ? m.refracted : m.rays;
+  auto cameraRays = [&](VkCommandBuffer cb) {
+    if (stamped) cmdTimerStart(cb, timer);
+    cmdCameraRays(cb, m.rayPipelines, camera, m.rays, 0.0f, 1e6f);
+    if (stamped) cmdTimerStamp(cb, timer, "camera rays");
+  };
+  auto gaussians = [&](VkCommandBuffer cb) {
+    if (stamped) cmdTimerStamp(cb, timer, "water");
+    cmdBarrier(cb);
+    cmdTraceForward(cb, m.tracer, m.proxies, m.device, traced, m.results, n, opt);
+    if (stamped) cmdTimerStamp(cb, timer, "gaussians");
+    cmdBarrier(cb);
+    cmdCopyToHost(cb, m.results, 0, m.resultsReadback, 0, bytes);
+    if (stamped) cmdTimerStamp(cb, timer, "image readback");
+  };
+  RenderedView out;
+  if (surface) {
+    traceSurface(ctx, *surface, source, m.rays, n, m.refracted, m.records, nullptr, {cameraRays, gaussians});
+    out.missed = surface->lastCounters.missed;
+  } else {
+    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+      cameraRays(cb);
+      gaussians(cb);
+    });
+  }
+  const auto clampStart = std::chrono::steady_clock::now();
+  const auto* results = static_cast<const GpuTraceResult*>(m.resultsReadback.mapped);
+  out.image.width = camera.width;
+  out.image.height = camera.height;
+  out.image.channels = 3;
+  out.image.pixels.resize(size_t(n) * 3);
+  for (uint32_t i = 0; i < n; i++)
+    for (int ch = 0; ch < 3; ch++) out.image.pixels[3 * i + ch] = std::clamp(results[i].rgb[ch], 0.0f, 1.0f);
+  if (options.stageMs) {
+    std::vector<std::pair<std::string, double>> stages = stamped ? readTimer(timer) : std::vector<std::pair<std::string, double>>{};
+    if (!surface) stages.erase(std::remove_if(stages.begin(), stages.end(), [](const auto& st) { return st.first == "water"; }), stages.end());
+    stages.push_back({"image (host)", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - clampStart).count()});
+    for (const auto& [stage, ms] : stages) {
+      auto it = std::find_if(options.stageMs->begin(), options.stageMs->end(), [&](const auto& st) { return st.first == stage; });
+      if (it == options.stageMs->end()) options.stageMs->push_back({stage, ms});
+      else it->second += ms;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 RenderedView renderView(Model& m, const Camera& camera, WaterView water, const SwapSurface& swap, const RenderOptions& options) {
   Context& ctx = *m.ctx;
   StageClock clock{options.stageMs};
@@ -85,8 +150,6 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
   if (water == WaterView::Swap && (swap.analytic != nullptr) == (swap.mesh != nullptr))
     fail(swap.analytic ? "render: two surfaces to swap in (a closed-form one and a mesh)" : "render: no surface to swap in");
   growModelRayCapacity(m, n);
-  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, m.rayPipelines, camera, m.rays, 0.0f, 1e6f); });
-  clock.lap("camera rays");
   RenderedView out;
   const Buffer* traced = &m.rays;
   std::optional<WaterSurface> swapped;
@@ -101,7 +164,11 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
     surface = &*swapped;
     source = heightSource(*swap.analytic);
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdUpdateSurface(cb, *surface, source); });
-  } else if (water == WaterView::Swap) {
+  }
+  if (!options.surfacePoints && !(water == WaterView::Swap && swap.mesh)) return renderImage(m, camera, surface, source, options);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdCameraRays(cb, m.rayPipelines, camera, m.rays, 0.0f, 1e6f); });
+  clock.lap("camera rays");
+  if (water == WaterView::Swap && !swap.analytic) {
     // The mesh's flags (one uint per ray) go into the records buffer (room for n SurfaceRecords).
     submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdRefractThroughMesh(cb, *swap.mesh, m.rays, n, surfaceConfigFor(m).ior, m.refracted, m.records); });
     traced = &m.refracted;

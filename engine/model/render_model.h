@@ -42,10 +42,14 @@ struct SwapSurface {
 // What a render computes beside the image, and where its time goes.
 struct RenderOptions {
   // The water's hits (RenderedView's surfacePoints and planePoints), for the surface's metrics:
-  // three readbacks of a ray per pixel. An image alone (refrax render) leaves them out.
+  // three readbacks of a ray per pixel. An image alone (refrax render) leaves them out, and is
+  // one submission where the water's trace is one (the camera rays, the water, the Gaussians and
+  // the results' copy for the host, no wait between; a mesh swapped in takes the stages' path).
   bool surfacePoints = true;
-  // When given: host wall milliseconds per stage of this render, added to ("camera rays",
-  // "water", "surface points", "gaussians", "image"), each stage waited for.
+  // When given: milliseconds per stage of this render, added to. An image alone: the device's
+  // timestamps ("camera rays", "water", "gaussians", "image readback") and the host's
+  // "image (host)"; else host wall milliseconds ("camera rays", "water", "surface points",
+  // "gaussians", "image"), each stage waited for.
   std::vector<std::pair<std::string, double>>* stageMs = nullptr;
 };
 
