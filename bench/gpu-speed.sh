@@ -52,10 +52,10 @@ p = json.load(open(sys.argv[1]))['profile']
 wall, host = p['wall_ms_per_step'], p['host_ms_per_step']
 row = {'device': sys.argv[3], 'steps': p['steps'], 'steps_per_second': 1000.0 / wall, 'ms_per_step': wall, 'median_step_ms': p['median_step_ms'],
        'host_ms_per_step': host, 'host_share': host / wall, 'submits_per_step': p['submits_per_step'],
-       'dispatches_per_step': p['dispatches_per_step'], 'host_stages': p['host']}
+       'dispatches_per_step': p['dispatches_per_step'], 'steps_not_waited_for': p.get('steps_not_waited_for', 0), 'host_stages': p['host']}
 json.dump(row, open(sys.argv[2], 'w'), indent=2)
-print('training: %.2f steps/s, %.2f ms per step, host %.2f ms (%.0f%%), %.2f submits and %.1f dispatches per step' %
-      (row['steps_per_second'], wall, host, 100 * row['host_share'], row['submits_per_step'], row['dispatches_per_step']))
+print('training: %.2f steps/s, %.2f ms per step, host %.2f ms (%.0f%%), %.2f submits and %.1f dispatches per step, %d of %d steps not waited for' %
+      (row['steps_per_second'], wall, host, 100 * row['host_share'], row['submits_per_step'], row['dispatches_per_step'], row['steps_not_waited_for'], row['steps']))
 PY
 
 # Lavapipe (and an integrated GPU) maps device memory, so its transfers cost no submission; a

@@ -16,7 +16,6 @@ bool stepCondition(uint32_t step, uint32_t from, uint32_t until, uint32_t interv
   return step >= from && step <= until && interval > 0 && step % interval == 0;
 }
 
-double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
 float largestSigma(const float* g) {
   const float* s = g + f32::kGaussLogScale;
   return f32::largestSigmaOf(glm::vec3(s[0], s[1], s[2]));

@@ -321,6 +321,11 @@ void recordGlobalTrace(SurfaceTracePass& t, VkCommandBuffer cb, bool emptyCache,
   if (emptyCache) cmdClearPointCache(cb, ws);
   vkCmdFillBuffer(cb, ws.counters.buffer, 4, VK_WHOLE_SIZE, 0);  // this trace's counts; 0 is the cache's
   cmdBarrier(cb);
+  // The cache's points are evaluated: the device's count is where the new ones start
+  // (surface_point_range.comp), so recording a trace needs no count read back from the last.
+  const VkBufferCopy cached{0, 0, 4};
+  vkCmdCopyBuffer(cb, ws.counters.buffer, ws.pointRange.buffer, 1, &cached);
+  cmdBarrier(cb);
   stampPass(t, cb, "clear");
   if (ws.heightRange)
     cmdDispatch(cb, p.globalTrace, {bind(ws.vertices), bind(t.rays), bind(ws.cellOrder), bind(t.records), bind(ws.counters), bind(ws.heightRange)},
@@ -414,16 +419,22 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
   if (traceIsOneSubmission(ws, heights, count)) {
     const uint32_t bound = uint32_t(std::min<uint64_t>(ws.pointCapacity, uint64_t(count) * insertsPerRay(K)));
     const EvaluateStep evaluate = [&](VkCommandBuffer cb) { evaluateQueuedPoints(t, cb, bound); };
-    submitPass(t, [&](VkCommandBuffer cb) {
-      const uint32_t evaluated = emptyCache ? 0u : ws.cachedPoints;  // the range starts after the cache
-      vkCmdUpdateBuffer(cb, ws.pointRange.buffer, 0, 4, &evaluated);
+    const auto record = [&](VkCommandBuffer cb) {
       recordGlobalTrace(t, cb, emptyCache, hooks);
       for (uint32_t k = 1; k <= K; k++) recordSubdivisionLevel(t, cb, k, evaluate);
       recordRefraction(t, cb, evaluate, refractedRays, hooks);
       // the counters where the host reads them after the wait, with no submission of their own
       cmdBarrier(cb);
       cmdCopyToHost(cb, ws.counters, 0, ws.countersReadback, 0, kCounterCount * 4);
-    });
+    };
+    if (hooks.submit) {
+      const uint32_t before = emptyCache ? 0u : ws.cachedPoints;
+      hooks.submit(record);
+      ws.cachedPoints = uint32_t(std::min<uint64_t>(ws.pointCapacity, uint64_t(before) + bound));
+      ws.lastCounters.points = ws.cachedPoints;
+      return;
+    }
+    submitPass(t, record);
     ws.lastCounters = countersFrom(static_cast<const uint32_t*>(ws.countersReadback.mapped));
     if (ws.lastCounters.points > ws.pointCapacity)
       fail("water surface: lattice point table overflow (" + std::to_string(ws.lastCounters.points) + " points)");

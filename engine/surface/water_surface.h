@@ -137,6 +137,11 @@ using SurfaceTimings = std::map<std::string, double>;
 // more often than the trace itself.
 struct SurfaceTraceHooks {
   std::function<void(VkCommandBuffer)> before, after;
+  // Where set, a one-submission trace (traceIsOneSubmission) hands its recording to `submit`
+  // instead of submitting and waiting (a training step not waited for, issue 48): its counters
+  // are not read, and the cache's count is taken at its bound (cachedPointsBoundAfterTrace)
+  // until a trace that is waited for reads it again.
+  std::function<void(const std::function<void(VkCommandBuffer)>&)> submit;
 };
 void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, const Buffer& rays, uint32_t count,
                   Buffer& refractedRays, Buffer& records, SurfaceTimings* timings = nullptr, const SurfaceTraceHooks& hooks = {});

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 
@@ -301,7 +302,11 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
     m["surface_roughening"] = rougheningJson(verdict);
     if (verdict.judged) m["surface_roughened"] = verdict.roughening;  // the report's column
   }
-  if (s.log.profiler.steps > 0) m["profile"] = profileJson(s.log.profiler);
+  if (s.log.profiler.steps > 0) {
+    m["profile"] = profileJson(s.log.profiler);
+    // Steps the host did not wait for before recording the next (TrainSession::deferSteps).
+    m["profile"]["steps_not_waited_for"] = s.log.deferredSteps;
+  }
   writeJson((dir / "metrics.json").string(), m);
   return m;
 }
@@ -317,17 +322,23 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
   if (watchesSurface(s) && s.log.surfaceWatch.empty() && s.model.step > 0) s.log.surfaceWatch = readSurfaceWatch(runDir, s.model.step);
   double watchLoss = 0;  // image loss summed since the last surface sample
   int watchSteps = 0;
-  while (s.model.step < c.steps) {
-    if (progress.timeLimitSeconds > 0 && s.model.trainingSeconds - startSeconds >= progress.timeLimitSeconds) {
-      say("stopping at step " + std::to_string(s.model.step) + " of " + std::to_string(c.steps) + ": the time limit (" +
-          std::to_string(int(progress.timeLimitSeconds)) + " s of training) is reached; --resume continues");
-      break;
+  // Steps not waited for (TrainSession::deferSteps): their losses are read once they have run,
+  // at the next step that is waited for (every surface-watch sample's is), in step order.
+  const char* sync = std::getenv("REFRAX_STEP_SYNC");
+  s.deferSteps = !(sync && std::string(sync) == "1");
+  s.syncEvery = surfaceWatchInterval(c);
+  std::vector<int> pendingSteps;
+  auto settlePending = [&] {
+    for (int k : pendingSteps) {
+      const StepLosses l = readStepLosses(s, k);
+      if (!std::isfinite(l.image + l.density)) fail("training diverged at step " + std::to_string(k) + ": the loss is not finite");
+      watchLoss += l.image;
+      watchSteps++;
     }
-    auto stepStart = std::chrono::steady_clock::now();
-    attachProfiler(*s.model.ctx, s.log.profiler);
-    StepResult r = trainStep(s);
-    detachProfiler(*s.model.ctx);
-    profileStepEnd(s.log.profiler, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart).count());
+    pendingSteps.clear();
+  };
+  // What a step waited for says (its events) and adds to the surface watch's loss.
+  auto sayStepEvents = [&](const StepResult& r) {
     if (r.restarted) {
       std::string how = c.initDepth == InitDepth::Sweep ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.log.sweptCellFraction))) + "% of the cells" : "";
       if (c.initPoints) how += ", " + std::to_string(s.log.gaussiansAtPoints) + " at sparse points";
@@ -342,6 +353,26 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       say(watchLine(s.log.watchChecks.back()));
     watchLoss += r.imageLoss;
     watchSteps++;
+  };
+  while (s.model.step < c.steps) {
+    if (progress.timeLimitSeconds > 0 && s.model.trainingSeconds - startSeconds >= progress.timeLimitSeconds) {
+      say("stopping at step " + std::to_string(s.model.step) + " of " + std::to_string(c.steps) + ": the time limit (" +
+          std::to_string(int(progress.timeLimitSeconds)) + " s of training) is reached; --resume continues");
+      break;
+    }
+    auto stepStart = std::chrono::steady_clock::now();
+    attachProfiler(*s.model.ctx, s.log.profiler);
+    StepResult r = trainStep(s);
+    detachProfiler(*s.model.ctx);
+    profileStepEnd(s.log.profiler, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart).count());
+    if (r.pending) {  // no event at this step, nothing to say: its loss is read later
+      s.log.deferredSteps++;
+      pendingSteps.push_back(s.model.step);
+      if (pendingSteps.size() >= kLossLogRows / 2) settlePending();  // before the log's rows come round again
+    } else {
+      settlePending();
+      sayStepEvents(r);
+    }
     if ((s.model.step % surfaceWatchInterval(c) == 0 || s.model.step == c.steps) && watchesSurface(s) && s.log.surfaceShapeMeasured) {
       s.log.surfaceWatch.push_back({s.model.step, watchLoss / watchSteps, s.log.surfaceShape});
       watchLoss = 0;
@@ -372,6 +403,8 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     if (checkpoint) saveCheckpoint(s, runDir);
     if (checkpoint && !s.log.surfaceWatch.empty()) writeJson(surfaceWatchPath(runDir), surfaceWatchJson(s.log.surfaceWatch));
   }
+  settlePending();
+  s.deferSteps = false;
   pushWaterGradient(s);
   if (latestCheckpoint(runDir) != checkpointPath(runDir, s.model.step)) saveCheckpoint(s, runDir);
   if (!s.log.surfaceWatch.empty()) writeJson(surfaceWatchPath(runDir), surfaceWatchJson(s.log.surfaceWatch));

@@ -31,6 +31,9 @@ namespace {
 constexpr int kProxyReorderInterval = 100;
 
 // The batch's buffers for up to n rays (the model's own: growModelRayCapacity).
+// The row of StepBuffers::lossLog that step `step` writes: its image loss, then its density loss.
+VkDeviceSize lossLogOffset(int step) { return VkDeviceSize(uint32_t(step) % kLossLogRows) * 8; }
+
 void allocateBatchBuffers(TrainSession& s, uint32_t n) {
   Context& ctx = *s.model.ctx;
   s.buffers.capacity = n;
@@ -301,6 +304,7 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   s->buffers.copyPipeline = createStridedCopyPipeline(ctx);
   s->buffers.lossResult = createBuffer(ctx, 16);
   s->buffers.stepScalars = createBuffer(ctx, 16, 0, MemoryUse::Readback);
+  s->buffers.lossLog = createBuffer(ctx, VkDeviceSize(kLossLogRows) * 8, 0, MemoryUse::Readback);
   s->water.adamPipelines = createAdamPipelines(ctx);
   if (s->model.height) {
     // Lavapipe builds a pipeline at its first dispatch (a second or more for the MLP's
@@ -502,7 +506,10 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
       for (int ch = 0; ch < 3; ch++) f.target[3 * i + ch] = w * view.image.at(int(b.x0 + x), int(b.y0 + y), ch);
     }
   // Copied at the head of the first submission below (cameraRays): no submission of their own.
-  RecordedUploads& uploads = s.buffers.uploads;
+  // A deferred step's go through its slot's area: the last step may still read the buffers.
+  const bool deferred = s.deferredSlot >= 0;
+  RecordedUploads& uploads = deferred ? s.buffers.slots[size_t(s.deferredSlot)].uploads : s.buffers.uploads;
+  uploads.alwaysStaged = deferred;
   reserveUploads(ctx, uploads, {f.target.size() * 4, f.weight.size() * 4, pixelList.size() * 4});
   stageUpload(ctx, uploads, s.buffers.target, f.target.data(), f.target.size() * 4);
   if (masked) stageUpload(ctx, uploads, s.buffers.pixelWeights, f.weight.data(), f.weight.size() * 4);
@@ -530,20 +537,46 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
     cmdImageLoss(cb, s.buffers.lossPipelines, s.buffers.lossScratch, s.buffers.rendered, s.buffers.target, s.buffers.lossGrad, s.buffers.lossResult);
     cmdBarrier(cb);
     cmdCopyToHost(cb, s.buffers.lossResult, 0, s.buffers.stepScalars, 0, 4);
+    cmdCopyToHost(cb, s.buffers.lossResult, 0, s.buffers.lossLog, lossLogOffset(s.model.step), 4);
     // dL/d(rgb, opacity): the opacity's stays 0, the background is part of rgb
     cmdCopyStrided(cb, s.buffers.copyPipeline, s.buffers.lossGrad, {3, 0}, s.buffers.dLoss, {4, 0}, 3, n, weights);
     cmdBarrier(cb);
     profileStage(cb, ctx, "loss");
     if (then) then(cb, f.context);
   };
+  // A deferred step is submitted into its slot and not waited for (submitWithoutWait).
+  std::function<void(const std::function<void(VkCommandBuffer)>&)> submitDeferred;
+  if (deferred) {
+    StepBuffers::StepSlot& slot = s.buffers.slots[size_t(s.deferredSlot)];
+    if (!slot.submit.cb) slot.submit = createSubmitSlot(ctx);
+    GpuProfiler* profiler = ctx.profiler;
+    submitDeferred = [&ctx, &slot, profiler](const std::function<void(VkCommandBuffer)>& record) {
+      submitWithoutWait(
+          ctx, slot.submit,
+          [&](VkCommandBuffer cb) {
+            profileSubmitBegin(cb, ctx, slot.timer);
+            record(cb);
+          },
+          [profiler, timer = &slot.timer] {
+            if (profiler) profileSubmitDone(*profiler, *timer);
+          });
+    };
+  }
   if (s.model.surface) {
     if (!surfaceCacheHasRoom(*s.model.surface, n)) pushWaterGradient(s);
-    traceSurface(ctx, *s.model.surface, currentHeightSource(s.model), s.model.rays, n, s.model.refracted, s.model.records, nullptr, {cameraRays, gaussiansAndLoss});
+    SurfaceTraceHooks hooks{cameraRays, gaussiansAndLoss, submitDeferred};
+    traceSurface(ctx, *s.model.surface, currentHeightSource(s.model), s.model.rays, n, s.model.refracted, s.model.records, nullptr, hooks);
   } else {
-    submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    const auto record = [&](VkCommandBuffer cb) {
       cameraRays(cb);
       gaussiansAndLoss(cb);
-    });
+    };
+    if (deferred) submitDeferred(record);
+    else submitAndWait(ctx, record);
+  }
+  if (deferred) {  // nothing of it read now: readStepLosses, later
+    f.imageLoss = NAN;
+    return f;
   }
   if (readRendered) f.rendered = downloadVector<float>(ctx, s.buffers.rendered, size_t(n) * 3);
   f.imageLoss = static_cast<const float*>(s.buffers.stepScalars.mapped)[0];
@@ -757,6 +790,7 @@ void cmdDensityLoss(VkCommandBuffer cb, TrainSession& s) {
                         float(s.model.config.densityLossWeight), kGaussianFloats, f32::kGaussLogitDensity);
   cmdBarrier(cb);
   cmdCopyToHost(cb, s.buffers.densityResult, 0, s.buffers.stepScalars, 4, 4);
+  cmdCopyToHost(cb, s.buffers.densityResult, 0, s.buffers.lossLog, lossLogOffset(s.model.step) + 4, 4);
   profileStage(cb, *s.model.ctx, "density regulariser");
 }
 
@@ -769,6 +803,7 @@ double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
   const TrainConfig& c = s.model.config;
   if (s.buffers.gaussianOptimiser) {  // stepped in the batch's command buffer (cmdGaussianStep)
     s.buffers.gaussianCopies = StepBuffers::Copies::DeviceNewer;
+    if (s.deferredSlot >= 0) return NAN;  // not run yet: readStepLosses
     return c.densityLossWeight > 0 ? static_cast<const float*>(s.buffers.stepScalars.mapped)[1] : 0.0;
   }
   pullGaussians(s);
@@ -1098,6 +1133,33 @@ void pushWaterGradient(TrainSession& s, const std::function<void(VkCommandBuffer
   if (then) submitAndWait(*s.model.ctx, then);
 }
 
+// Whether step t is submitted without waiting (TrainSession::deferSteps): nothing the host does
+// after it at this step reads what it computes. Not where the host changes the Gaussians or
+// checks or steps the water, reads the batch for the progress line, or a batch of a new size
+// reallocates buffers; not where the water's trace takes several submissions or must empty a
+// cache holding a gradient; and every syncEvery steps, so the surface watch's loss is whole.
+bool deferredStepAt(const TrainSession& s, int t, const StepBatch& b, bool progressDue, bool proxiesInBatch) {
+  const TrainConfig& c = s.model.config;
+  if (!s.deferSteps || !proxiesInBatch || progressDue || t == c.steps || t % std::max(1, s.syncEvery) == 0) return false;
+  if (surfaceStepAt(s, t) || sweepWatchAt(s, t) || restartAt(s, t)) return false;
+  if (b.width != s.lastBatchWidth || b.height != s.lastBatchHeight || b.rays() > s.model.capacity) return false;
+  if (!s.model.surface) return true;
+  const WaterSurface& ws = *s.model.surface;
+  return traceIsOneSubmission(ws, currentHeightSource(s.model), b.rays()) && surfaceCacheHasRoom(ws, b.rays());
+}
+
+StepLosses readStepLosses(TrainSession& s, int step) {
+  waitInFlight(*s.model.ctx);
+  const float* row = static_cast<const float*>(s.buffers.lossLog.mapped) + 2 * (uint32_t(step) % kLossLogRows);
+  return {row[0], s.model.config.densityLossWeight > 0 ? row[1] : 0.0f};
+}
+
+TrainSession::~TrainSession() {
+  if (!model.ctx) return;
+  waitInFlight(*model.ctx);
+  for (StepBuffers::StepSlot& slot : buffers.slots) destroySubmitSlot(*model.ctx, slot.submit);
+}
+
 StepResult trainStep(TrainSession& s) {
   auto start = std::chrono::steady_clock::now();
   const int t = ++s.model.step;
@@ -1120,6 +1182,10 @@ StepResult trainStep(TrainSession& s) {
   // follows the wait (pushListedSurfaceGradients).
   const bool surfaceInBatch = surfaceStepInBatch(s, t);
   enum class InBatchPush { None, Listed, Pushed } surfacePush = InBatchPush::None;
+  const bool deferred = deferredStepAt(s, t, batch, progressDue, proxiesInBatch);
+  s.deferredSlot = deferred ? t % 2 : -1;
+  s.lastBatchWidth = batch.width;
+  s.lastBatchHeight = batch.height;
   const BatchForward forward = forwardBatch(s, batch, opt, [&](VkCommandBuffer cb, const BatchContext& context) {
     if (surfaceInBatch) addSurfacePriorGradient(s, t);  // written before the backward that adds it is recorded
     vkCmdFillBuffer(cb, s.buffers.grads.buffer, 0, VK_WHOLE_SIZE, 0);
@@ -1144,6 +1210,19 @@ StepResult trainStep(TrainSession& s) {
     }
   }, progressDue);
   StepResult r;
+  if (deferred) {
+    // Nothing more for the host at this step: the device steps the Gaussians and refits their
+    // proxies in the batch's submission. The last step is waited for now that this one is
+    // queued behind it.
+    s.buffers.gaussianCopies = StepBuffers::Copies::DeviceNewer;
+    s.deferredSlot = -1;
+    waitInFlight(*s.model.ctx, 1);
+    r.pending = true;
+    r.loss = r.imageLoss = r.psnr = NAN;
+    r.gaussians = uint32_t(s.model.gaussians.count());
+    s.model.trainingSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+  }
   if (s.model.surface) r.missed = s.model.surface->lastCounters.missed;  // before a restart's plane sweep traces again
   if (surfaceInBatch) {
     const auto adamAndLift = [&](VkCommandBuffer cb) { cmdWaterAdamAndLift(cb, s, t); };

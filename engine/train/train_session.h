@@ -13,6 +13,7 @@
 //   -> Adam on the Gaussian table's six groups (engine/optim/table_adam.h).
 // The camera rays, the Gaussians, the loss and the backward share one submission with the
 // surface trace's last (profile: `refrax train --profile`, engine/vk/vk_profile.h).
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -35,6 +36,7 @@
 #include "engine/gaussian/gaussian_device_step.h"
 #include "engine/train/plane_sweep.h"
 #include "engine/run/train_config.h"
+#include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_profile.h"
 #include "engine/surface/surface_watch.h"
 #include "engine/surface/water_surface.h"
@@ -51,6 +53,9 @@ struct StepResult {
   uint32_t gaussians = 0;
   uint32_t missed = 0;    // rays that missed the surface domain
   bool restarted = false; // the Gaussians were drawn afresh after this step (--restart-gaussians)
+  // Submitted and not waited for (TrainSession::deferSteps): the losses above are NaN until
+  // readStepLosses reads them once the step has run.
+  bool pending = false;
 };
 
 // The optimisers' state and the batch order: with the model's parameters, what a checkpoint
@@ -131,7 +136,18 @@ struct StepBuffers {
   // is current: the device steps them, the host changes them (densification, a restart, a
   // loaded checkpoint); pullGaussians and pushGaussians make the other copy the same.
   enum class Copies { Same, DeviceNewer, HostNewer } gaussianCopies = Copies::HostNewer;
+  // Steps not waited for (TrainSession::deferSteps): two slots, each with its own command
+  // buffer, fence, uploads' area and profiling timer, so that one step is recorded while the
+  // last runs; every step's image and density losses copied to lossLog's row step % rows.
+  struct StepSlot {
+    SubmitSlot submit;
+    RecordedUploads uploads;
+    GpuTimer timer;
+  };
+  std::array<StepSlot, 2> slots;
+  Buffer lossLog;
 };
+constexpr uint32_t kLossLogRows = 256;
 
 // --water-sign-check at a restart of this process: the step, the mirror's agreement against
 // the learned water's, and whether the mirror was kept.
@@ -189,6 +205,7 @@ SweepWatchVerdict sweepWatchVerdict(double ratio, double best);
 // What the run reports of this process (refrax report, the end-of-run checks, --profile);
 // nothing here steers training.
 struct RunLog {
+  int deferredSteps = 0;  // steps trainToEnd did not wait for (TrainSession::deferSteps)
   DensifyStats lastDensify;
   McmcStats lastMcmc;
   std::vector<WaterSignCheck> signChecks;
@@ -233,7 +250,28 @@ struct TrainSession {
   // one submission a step. False: a submission of its own after the batch's, as before (tests
   // compare the two).
   bool surfaceStepInBatch = true;
+  // Steps submitted without waiting where nothing the host does next needs their results
+  // (deferredStepAt): the host records step t + 1 while the device runs step t, and waits for
+  // step t only once step t + 1 is queued (issue 48). Their losses are read later
+  // (readStepLosses). Every step at a multiple of syncEvery is waited for. trainToEnd sets it
+  // (REFRAX_STEP_SYNC=1: off); off, every step waits for itself.
+  bool deferSteps = false;
+  int syncEvery = 100;
+  int deferredSlot = -1;                      // the slot of the step being recorded, when deferred
+  uint32_t lastBatchWidth = 0, lastBatchHeight = 0;  // of the last step: a new size reallocates its buffers
+
+  TrainSession() = default;
+  TrainSession(const TrainSession&) = delete;
+  TrainSession& operator=(const TrainSession&) = delete;
+  ~TrainSession();  // waits for the steps in flight before their buffers go
 };
+
+// The image and density losses of a step that ran (its row of StepBuffers::lossLog; waits for
+// the steps in flight first). Good for the kLossLogRows steps before the latest.
+struct StepLosses {
+  double image = 0, density = 0;
+};
+StepLosses readStepLosses(TrainSession& session, int step);
 
 // Loads nothing: `dataset` and `config` (resolved) are given. Initialises the Gaussians,
 // the height field and the surface from config.seed.

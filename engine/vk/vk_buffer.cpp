@@ -119,6 +119,7 @@ Buffer& stagingFor(Context& ctx, VkDeviceSize bytes) {
 void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
   if (offset + bytes > dst.size) fail("upload past the end of a buffer");
   if (bytes == 0) return;
+  waitInFlight(ctx);  // the device may still read dst
   if (dst.mapped) {
     std::memcpy(static_cast<char*>(dst.mapped) + offset, data, bytes);
     return;
@@ -134,6 +135,7 @@ void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkD
 void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset) {
   if (offset + bytes > src.size) fail("download past the end of a buffer");
   if (bytes == 0) return;
+  waitInFlight(ctx);  // the device may still write src
   if (src.mapped) {
     std::memcpy(data, static_cast<const char*>(src.mapped) + offset, bytes);
     return;
@@ -154,7 +156,8 @@ void fillBuffer(Context& ctx, Buffer& dst, uint32_t word) {
 void stageUpload(Context& ctx, RecordedUploads& u, Buffer& dst, const void* data, VkDeviceSize bytes) {
   if (bytes > dst.size) fail("upload past the end of a buffer");
   if (bytes == 0) return;
-  if (dst.mapped) {
+  if (dst.mapped && !u.alwaysStaged) {
+    waitInFlight(ctx);  // the device may still read dst
     std::memcpy(dst.mapped, data, bytes);
     return;
   }

@@ -60,6 +60,9 @@ struct RecordedUploads {
   Buffer area;  // host-visible, mapped
   VkDeviceSize used = 0;
   std::vector<Copy> pending;
+  // Through the area even where the host could write the destination in place (lavapipe):
+  // for uploads recorded while an earlier submission may still read the destination.
+  bool alwaysStaged = false;
 };
 // Writes `bytes` of data for dst: in place, or into the area with its copy pending. The area
 // grows only while no copy is pending (a copy reads it when its command buffer runs).

@@ -8,6 +8,7 @@
 namespace refrax {
 
 void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& record) {
+  waitInFlight(ctx);
   VkCommandBuffer cb = ctx.commandBuffer;
   REFRAX_VK(vkResetCommandBuffer(cb, 0));
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -23,6 +24,56 @@ void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& rec
   REFRAX_VK(vkQueueSubmit(ctx.queue, 1, &si, ctx.fence));
   REFRAX_VK(vkWaitForFences(ctx.device, 1, &ctx.fence, VK_TRUE, UINT64_MAX));
   profileSubmitEnd(ctx);
+}
+
+SubmitSlot createSubmitSlot(Context& ctx) {
+  SubmitSlot slot;
+  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cai.commandPool = ctx.commandPool;
+  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cai.commandBufferCount = 1;
+  REFRAX_VK(vkAllocateCommandBuffers(ctx.device, &cai, &slot.cb));
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  REFRAX_VK(vkCreateFence(ctx.device, &fci, nullptr, &slot.fence));
+  return slot;
+}
+
+void destroySubmitSlot(Context& ctx, SubmitSlot& slot) {
+  if (slot.inFlight) waitInFlight(ctx);
+  if (slot.fence) vkDestroyFence(ctx.device, slot.fence, nullptr);
+  if (slot.cb) vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &slot.cb);
+  slot = SubmitSlot{};
+}
+
+void submitWithoutWait(Context& ctx, SubmitSlot& slot, const std::function<void(VkCommandBuffer)>& record, std::function<void()> done) {
+  while (slot.inFlight) waitInFlight(ctx, ctx.inFlight.size() - 1);  // its last submission is the oldest left
+  REFRAX_VK(vkResetCommandBuffer(slot.cb, 0));
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  REFRAX_VK(vkBeginCommandBuffer(slot.cb, &bi));
+  cmdBarrier(slot.cb);  // after everything submitted before, this one's earlier submissions included
+  record(slot.cb);
+  REFRAX_VK(vkEndCommandBuffer(slot.cb));
+  REFRAX_VK(vkResetFences(ctx.device, 1, &slot.fence));
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &slot.cb;
+  REFRAX_VK(vkQueueSubmit(ctx.queue, 1, &si, slot.fence));
+  slot.inFlight = true;
+  bool* flag = &slot.inFlight;
+  ctx.inFlight.push_back({slot.fence, [flag, done = std::move(done)] {
+                            *flag = false;
+                            if (done) done();
+                          }});
+}
+
+void waitInFlight(Context& ctx, size_t keep) {
+  while (ctx.inFlight.size() > keep) {
+    Context::InFlight oldest = std::move(ctx.inFlight.front());
+    ctx.inFlight.pop_front();
+    REFRAX_VK(vkWaitForFences(ctx.device, 1, &oldest.fence, VK_TRUE, UINT64_MAX));
+    if (oldest.done) oldest.done();
+  }
 }
 
 void cmdBarrier(VkCommandBuffer cb) {

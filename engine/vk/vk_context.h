@@ -7,6 +7,8 @@
 #include <volk.h>
 
 #include <atomic>
+#include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -84,6 +86,13 @@ struct Context {
   bool forceStaging = false;
   // Set while a run is profiled (engine/vk/vk_profile.h): submitAndWait times every submission.
   GpuProfiler* profiler = nullptr;
+  // Submissions not yet waited for (submitWithoutWait, engine/vk/vk_commands.h), oldest first:
+  // each one's fence and what to do once it has signalled.
+  struct InFlight {
+    VkFence fence = VK_NULL_HANDLE;
+    std::function<void()> done;
+  };
+  std::deque<InFlight> inFlight;
   // The host-visible buffer upload and download copy through on a device the host cannot
   // map (engine/vk/vk_buffer.cpp stagingFor), kept and grown rather than made per call.
   std::unique_ptr<Buffer> staging;

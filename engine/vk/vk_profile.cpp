@@ -29,7 +29,8 @@ void attachProfiler(Context& ctx, GpuProfiler& p) {
 void detachProfiler(Context& ctx) { ctx.profiler = nullptr; }
 
 void profileStage(VkCommandBuffer cb, Context& ctx, const std::string& stage) {
-  if (ctx.profiler && ctx.profiler->gpu) cmdTimerStamp(cb, ctx.profiler->timer, stage);
+  GpuProfiler* p = ctx.profiler;
+  if (p && p->gpu) cmdTimerStamp(cb, p->recording ? *p->recording : p->timer, stage);
 }
 
 HostStage::HostStage(Context& c, std::string s) : ctx(c), stage(std::move(s)), start(std::chrono::steady_clock::now()) {
@@ -47,19 +48,35 @@ HostStage::~HostStage() {
 void profileSubmitBegin(VkCommandBuffer cb, Context& ctx) {
   if (!ctx.profiler) return;
   ctx.profiler->submits++;
+  ctx.profiler->recording = &ctx.profiler->timer;
   if (ctx.profiler->gpu) cmdTimerStart(cb, ctx.profiler->timer);
+}
+
+void profileSubmitBegin(VkCommandBuffer cb, Context& ctx, GpuTimer& timer) {
+  GpuProfiler* p = ctx.profiler;
+  if (!p) return;
+  p->submits++;
+  p->recording = &timer;
+  if (!p->gpu) return;
+  if (!timer.ctx) createTimer(ctx, timer, kStampsPerSubmit);
+  cmdTimerStart(cb, timer);
+}
+
+void profileSubmitDone(GpuProfiler& p, GpuTimer& timer) {
+  if (!p.gpu || !timer.ctx) return;
+  for (auto& [stage, ms] : readTimer(timer)) {
+    StageTotals& t = p.device[stage];
+    t.ms += ms;
+    p.deviceMs += ms;
+    t.calls++;
+  }
+  timer.labels.clear();
 }
 
 void profileSubmitEnd(Context& ctx) {
   GpuProfiler* p = ctx.profiler;
   if (!p || !p->gpu) return;
-  for (auto& [stage, ms] : readTimer(p->timer)) {
-    StageTotals& t = p->device[stage];
-    t.ms += ms;
-    p->deviceMs += ms;
-    t.calls++;
-  }
-  p->timer.labels.clear();
+  profileSubmitDone(*p, p->timer);
 }
 
 void profileStepEnd(GpuProfiler& p, double wallMs) {

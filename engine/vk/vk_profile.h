@@ -29,6 +29,7 @@ struct StageTotals {
 
 struct GpuProfiler {
   GpuTimer timer;
+  GpuTimer* recording = nullptr;              // the timer of the submission being recorded (timer, or a slot's)
   bool gpu = false;                           // the device writes timestamps
   std::map<std::string, StageTotals> device;  // GPU ms by stage
   std::map<std::string, StageTotals> host;    // host ms by stage (work between submits)
@@ -63,6 +64,10 @@ struct HostStage {
 // Called by submitAndWait around a submission.
 void profileSubmitBegin(VkCommandBuffer cb, Context& ctx);
 void profileSubmitEnd(Context& ctx);
+// The same for a submission not waited for (submitWithoutWait): its stamps go to `timer`
+// (one per slot in flight), whose stages profileSubmitDone adds once its fence has signalled.
+void profileSubmitBegin(VkCommandBuffer cb, Context& ctx, GpuTimer& timer);
+void profileSubmitDone(GpuProfiler& profiler, GpuTimer& timer);
 
 // One profiled step ended after `wallMs`.
 void profileStepEnd(GpuProfiler& profiler, double wallMs);
