@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <utility>
 
 #include "engine/dataset/ground_truth.h"
 #include "engine/base/error.h"
@@ -364,13 +366,13 @@ void planeAdamStep(TrainSession& s, double grad) {
 
 // Records, after a lift of the surface in cb, the copy of its coarse grid's heights to where
 // the host reads them (liftedHeights); call noteLiftedHeights after the submission's wait.
-void cmdCopyLiftedHeights(VkCommandBuffer cb, TrainSession& s) {
+void cmdCopyLiftedHeights(VkCommandBuffer cb, TrainSession& s, Buffer* to) {
   WaterSurface& ws = *s.model.surface;
   const VkDeviceSize bytes = VkDeviceSize(ws.gridPointCount) * 4;
-  if (!s.water.liftedHeights.buffer || s.water.liftedHeights.size < bytes)
-    s.water.liftedHeights = createBuffer(*s.model.ctx, bytes, 0, MemoryUse::Readback);
+  for (Buffer* b : {&s.water.liftedHeights, to})
+    if (b && (!b->buffer || b->size < bytes)) *b = createBuffer(*s.model.ctx, bytes, 0, MemoryUse::Readback);
   cmdBarrier(cb);
-  cmdCopyToHost(cb, ws.gridHeights, 0, s.water.liftedHeights, 0, bytes);
+  cmdCopyToHost(cb, ws.gridHeights, 0, to ? *to : s.water.liftedHeights, 0, bytes);
 }
 void noteLiftedHeights(TrainSession& s) { s.water.liftedHeightsVersion = s.model.surface->heightsVersion; }
 
@@ -391,7 +393,7 @@ void anchorMeanHeight(TrainSession& s) {
   hf.config.initialHeight = float(double(hf.config.initialHeight) + shift);
   submitAndWait(*s.model.ctx, [&](VkCommandBuffer cb) {
     cmdUpdateSurface(cb, *s.model.surface, hf);
-    cmdCopyLiftedHeights(cb, s);
+    cmdCopyLiftedHeights(cb, s, nullptr);
   });
   noteLiftedHeights(s);
 }
@@ -557,8 +559,9 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
             profileSubmitBegin(cb, ctx, slot.timer);
             record(cb);
           },
-          [profiler, timer = &slot.timer] {
-            if (profiler) profileSubmitDone(*profiler, *timer);
+          [profiler, &slot] {
+            if (profiler) profileSubmitDone(*profiler, slot.timer);
+            if (slot.finish) std::exchange(slot.finish, nullptr)();
           });
     };
   }
@@ -608,9 +611,8 @@ bool surfaceStepAt(const TrainSession& s, int t) {
 // a height outside the span from the bottom of the Gaussians' box to the lowest training
 // camera, or not finite. A diverged surface (too fast a learning rate) otherwise trains on
 // with every ray missing it and ends as a normal run.
-void requireSurfaceInScene(TrainSession& s, int t) {
+void requireSurfaceInScene(TrainSession& s, int t, const std::vector<float>& heights) {
   const std::vector<double>& weights = trainViewWeights(s);
-  const std::vector<float> heights = liftedGridHeights(s);
   double low = INFINITY, high = -INFINITY;
   bool finite = true;
   for (size_t k = 0; k < heights.size(); k++)
@@ -642,6 +644,7 @@ void requireSurfaceInScene(TrainSession& s, int t) {
                 t, low, high, finite ? "" : " (some not finite)", bottom, lowestCamera, remedy);
   fail(text);
 }
+void requireSurfaceInScene(TrainSession& s, int t) { requireSurfaceInScene(s, t, liftedGridHeights(s)); }
 
 // The plane sweep through the water lifted from `heights` (sweepThroughWater, below).
 DepthMap sweepThroughWater(TrainSession& s, const HeightSource& heights, PlaneSweepConfig& pc);
@@ -733,7 +736,7 @@ void addSurfacePriorGradient(TrainSession& s, int t) {
 
 // After the push: the water's Adam step, the next encoding window, the surface lifted and its
 // coarse heights copied where the host reads them.
-void cmdWaterAdamAndLift(VkCommandBuffer cb, TrainSession& s, int t) {
+void cmdWaterAdamAndLift(VkCommandBuffer cb, TrainSession& s, int t, Buffer* liftedTo = nullptr) {
   AdamSettings settings;
   settings.agreementPower = s.model.config.surfaceAgreement;
   cmdBarrier(cb);
@@ -742,7 +745,7 @@ void cmdWaterAdamAndLift(VkCommandBuffer cb, TrainSession& s, int t) {
   profileStage(cb, *s.model.ctx, "water adam");
   s.model.height->config.encodingWindow = encodingWindowAfterStep(s.model.config, t, surfaceBatchSteps(s));
   cmdUpdateSurface(cb, *s.model.surface, *s.model.height);
-  cmdCopyLiftedHeights(cb, s);
+  cmdCopyLiftedHeights(cb, s, liftedTo);
 }
 
 // After the lift's wait: the mean height anchored and the heights checked.
@@ -1141,7 +1144,11 @@ void pushWaterGradient(TrainSession& s, const std::function<void(VkCommandBuffer
 bool deferredStepAt(const TrainSession& s, int t, const StepBatch& b, bool progressDue, bool proxiesInBatch) {
   const TrainConfig& c = s.model.config;
   if (!s.deferSteps || !proxiesInBatch || progressDue || t == c.steps || t % std::max(1, s.syncEvery) == 0) return false;
-  if (surfaceStepAt(s, t) || sweepWatchAt(s, t) || restartAt(s, t)) return false;
+  // A water step only in the batch's submission, and without the anchor's re-lift or the priors
+  // (which read its lifted heights before the next step is recorded).
+  const bool waterStep = surfaceStepAt(s, t);
+  if (waterStep && !(surfaceStepInBatch(s, t) && !c.anchorMeanHeight && !priorOn(s))) return false;
+  if (sweepWatchAt(s, t) || restartAt(s, t)) return false;
   if (b.width != s.lastBatchWidth || b.height != s.lastBatchHeight || b.rays() > s.model.capacity) return false;
   if (!s.model.surface) return true;
   const WaterSurface& ws = *s.model.surface;
@@ -1156,7 +1163,14 @@ StepLosses readStepLosses(TrainSession& s, int step) {
 
 TrainSession::~TrainSession() {
   if (!model.ctx) return;
-  waitInFlight(*model.ctx);
+  // The steps in flight, waited for; what their host parts would say is dropped (a session goes
+  // while an error of an earlier step unwinds, and a destructor must not throw a second).
+  while (!model.ctx->inFlight.empty()) {
+    try {
+      waitInFlight(*model.ctx);
+    } catch (const std::exception&) {
+    }
+  }
   for (StepBuffers::StepSlot& slot : buffers.slots) destroySubmitSlot(*model.ctx, slot.submit);
 }
 
@@ -1196,7 +1210,23 @@ StepResult trainStep(TrainSession& s) {
       const bool pushed = cmdListAndPushSurfaceGradients(cb, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad),
                                                          cachedPointsBoundAfterTrace(*s.model.surface, context.rays()));
       surfacePush = pushed ? InBatchPush::Pushed : InBatchPush::Listed;
-      if (pushed) cmdWaterAdamAndLift(cb, s, t);
+      if (pushed && deferred) {
+        // The lifted heights go to the slot's buffer (the next step's lift may be in flight
+        // when this one's are read), and the host's checks of them run once the step has run.
+        StepBuffers::StepSlot& slot = s.buffers.slots[size_t(t % 2)];
+        cmdWaterAdamAndLift(cb, s, t, &slot.liftedHeights);
+        const uint64_t version = s.model.surface->heightsVersion;
+        slot.finish = [&s, &slot, t, version] {
+          const uint32_t n = s.model.surface->gridPointCount;
+          const float* lifted = static_cast<const float*>(slot.liftedHeights.mapped);
+          std::memcpy(s.water.liftedHeights.mapped, lifted, size_t(n) * 4);
+          s.water.liftedHeightsVersion = version;
+          HostStage h(*s.model.ctx, "water divergence check (host)");
+          requireSurfaceInScene(s, t, std::vector<float>(lifted, lifted + n));
+        };
+      } else if (pushed) {
+        cmdWaterAdamAndLift(cb, s, t);
+      }
     }
     cmdDensityLoss(cb, s);
     if (s.buffers.gaussianOptimiser) cmdGaussianDeviceStep(cb, s, t, batch.rays());
@@ -1216,6 +1246,14 @@ StepResult trainStep(TrainSession& s) {
     // queued behind it.
     s.buffers.gaussianCopies = StepBuffers::Copies::DeviceNewer;
     s.deferredSlot = -1;
+    if (surfaceInBatch && surfacePush != InBatchPush::Pushed) {  // the push must read its count: the step is waited for
+      const auto adamAndLift = [&](VkCommandBuffer cb) { cmdWaterAdamAndLift(cb, s, t); };
+      if (surfacePush == InBatchPush::Listed)
+        pushListedSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad), adamAndLift);
+      else
+        pushWaterGradient(s, adamAndLift);
+      finishSurfaceStep(s, t);
+    }
     waitInFlight(*s.model.ctx, 1);
     r.pending = true;
     r.loss = r.imageLoss = r.psnr = NAN;

@@ -143,6 +143,8 @@ struct StepBuffers {
     SubmitSlot submit;
     RecordedUploads uploads;
     GpuTimer timer;
+    Buffer liftedHeights;         // a water step's lifted coarse heights, read once it has run
+    std::function<void()> finish;  // the host's part of the step, once it has run (a water step's checks)
   };
   std::array<StepSlot, 2> slots;
   Buffer lossLog;
