@@ -311,6 +311,28 @@ nlohmann::json writeRunOutputs(TrainSession& s, const std::string& runDir) {
   return m;
 }
 
+namespace {
+
+// What a step that was waited for says about its events (a restart and its checks, a gate, a
+// rollback).
+void sayStepEvents(const TrainSession& s, const StepResult& r, const std::function<void(const std::string&)>& say) {
+  const TrainConfig& c = s.model.config;
+  if (r.restarted) {
+    std::string how = c.initDepth == InitDepth::Sweep ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.log.sweptCellFraction))) + "% of the cells" : "";
+    if (c.initPoints) how += ", " + std::to_string(s.log.gaussiansAtPoints) + " at sparse points";
+    if (!s.log.gateChecks.empty() && s.log.gateChecks.back().step == s.model.step) say(gateLine(s.log.gateChecks.back()));
+    if (!s.log.signChecks.empty() && s.log.signChecks.back().step == s.model.step) say(signCheckLine(s.log.signChecks.back()));
+    if (!s.log.scaleSearches.empty() && s.log.scaleSearches.back().step == s.model.step) say(scaleSearchLine(s.log.scaleSearches.back()));
+    say("step " + std::to_string(s.model.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
+  }
+  if (!s.log.restartGateChecks.empty() && s.log.restartGateChecks.back().step == s.model.step && !s.log.restartGateChecks.back().restarted)
+    say(restartGateLine(s.log.restartGateChecks.back()));
+  if (!s.log.watchChecks.empty() && s.log.watchChecks.back().step == s.model.step && s.log.watchChecks.back().rolledBack)
+    say(watchLine(s.log.watchChecks.back()));
+}
+
+}  // namespace
+
 nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const TrainProgress& progress) {
   const TrainConfig& c = s.model.config;
   auto start = std::chrono::steady_clock::now();
@@ -337,23 +359,6 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     }
     pendingSteps.clear();
   };
-  // What a step waited for says (its events) and adds to the surface watch's loss.
-  auto sayStepEvents = [&](const StepResult& r) {
-    if (r.restarted) {
-      std::string how = c.initDepth == InitDepth::Sweep ? ", at the plane sweep's depth in " + std::to_string(int(std::lround(100 * s.log.sweptCellFraction))) + "% of the cells" : "";
-      if (c.initPoints) how += ", " + std::to_string(s.log.gaussiansAtPoints) + " at sparse points";
-      if (!s.log.gateChecks.empty() && s.log.gateChecks.back().step == s.model.step) say(gateLine(s.log.gateChecks.back()));
-      if (!s.log.signChecks.empty() && s.log.signChecks.back().step == s.model.step) say(signCheckLine(s.log.signChecks.back()));
-      if (!s.log.scaleSearches.empty() && s.log.scaleSearches.back().step == s.model.step) say(scaleSearchLine(s.log.scaleSearches.back()));
-      say("step " + std::to_string(s.model.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
-    }
-    if (!s.log.restartGateChecks.empty() && s.log.restartGateChecks.back().step == s.model.step && !s.log.restartGateChecks.back().restarted)
-      say(restartGateLine(s.log.restartGateChecks.back()));
-    if (!s.log.watchChecks.empty() && s.log.watchChecks.back().step == s.model.step && s.log.watchChecks.back().rolledBack)
-      say(watchLine(s.log.watchChecks.back()));
-    watchLoss += r.imageLoss;
-    watchSteps++;
-  };
   while (s.model.step < c.steps) {
     if (progress.timeLimitSeconds > 0 && s.model.trainingSeconds - startSeconds >= progress.timeLimitSeconds) {
       say("stopping at step " + std::to_string(s.model.step) + " of " + std::to_string(c.steps) + ": the time limit (" +
@@ -371,7 +376,9 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       if (pendingSteps.size() >= kLossLogRows / 2) settlePending();  // before the log's rows come round again
     } else {
       settlePending();
-      sayStepEvents(r);
+      sayStepEvents(s, r, say);
+      watchLoss += r.imageLoss;
+      watchSteps++;
     }
     if ((s.model.step % surfaceWatchInterval(c) == 0 || s.model.step == c.steps) && watchesSurface(s) && s.log.surfaceShapeMeasured) {
       s.log.surfaceWatch.push_back({s.model.step, watchLoss / watchSteps, s.log.surfaceShape});

@@ -482,6 +482,28 @@ TraceOptions stepTraceOptions(TrainSession& s, const StepBatch& b, int t) {
   return opt;
 }
 
+// A deferred step is submitted into its slot and not waited for (submitWithoutWait); once it
+// has run, its stages are added to the profile and the host's part of it runs (slot.finish).
+using DeferredSubmitter = std::function<void(const std::function<void(VkCommandBuffer)>&)>;
+DeferredSubmitter deferredSubmitter(TrainSession& s) {
+  Context& ctx = *s.model.ctx;
+  StepBuffers::StepSlot& slot = s.buffers.slots[size_t(s.deferredSlot)];
+  if (!slot.submit.cb) slot.submit = createSubmitSlot(ctx);
+  GpuProfiler* profiler = ctx.profiler;
+  return [&ctx, &slot, profiler](const std::function<void(VkCommandBuffer)>& record) {
+    submitWithoutWait(
+        ctx, slot.submit,
+        [&](VkCommandBuffer cb) {
+          profileSubmitBegin(cb, ctx, slot.timer);
+          record(cb);
+        },
+        [profiler, &slot] {
+          if (profiler) profileSubmitDone(*profiler, slot.timer);
+          if (slot.finish) std::exchange(slot.finish, nullptr)();
+        });
+  };
+}
+
 BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOptions& opt,
                           const std::function<void(VkCommandBuffer, const BatchContext&)>& then, bool readRendered) {
   Context& ctx = *s.model.ctx;
@@ -546,25 +568,7 @@ BatchForward forwardBatch(TrainSession& s, const StepBatch& b, const TraceOption
     profileStage(cb, ctx, "loss");
     if (then) then(cb, f.context);
   };
-  // A deferred step is submitted into its slot and not waited for (submitWithoutWait).
-  std::function<void(const std::function<void(VkCommandBuffer)>&)> submitDeferred;
-  if (deferred) {
-    StepBuffers::StepSlot& slot = s.buffers.slots[size_t(s.deferredSlot)];
-    if (!slot.submit.cb) slot.submit = createSubmitSlot(ctx);
-    GpuProfiler* profiler = ctx.profiler;
-    submitDeferred = [&ctx, &slot, profiler](const std::function<void(VkCommandBuffer)>& record) {
-      submitWithoutWait(
-          ctx, slot.submit,
-          [&](VkCommandBuffer cb) {
-            profileSubmitBegin(cb, ctx, slot.timer);
-            record(cb);
-          },
-          [profiler, &slot] {
-            if (profiler) profileSubmitDone(*profiler, slot.timer);
-            if (slot.finish) std::exchange(slot.finish, nullptr)();
-          });
-    };
-  }
+  const auto submitDeferred = deferred ? deferredSubmitter(s) : DeferredSubmitter{};
   if (s.model.surface) {
     if (!surfaceCacheHasRoom(*s.model.surface, n)) pushWaterGradient(s);
     SurfaceTraceHooks hooks{cameraRays, gaussiansAndLoss, submitDeferred};
@@ -1136,6 +1140,34 @@ void pushWaterGradient(TrainSession& s, const std::function<void(VkCommandBuffer
   if (then) submitAndWait(*s.model.ctx, then);
 }
 
+// A deferred water step's lift: the lifted heights go to its slot's buffer (the next step's
+// lift may be in flight when this one's are read), and the host's checks of them run once the
+// step has run (slot.finish).
+void cmdDeferredWaterAdamAndLift(VkCommandBuffer cb, TrainSession& s, int t) {
+  StepBuffers::StepSlot& slot = s.buffers.slots[size_t(t % 2)];
+  cmdWaterAdamAndLift(cb, s, t, &slot.liftedHeights);
+  const uint64_t version = s.model.surface->heightsVersion;
+  slot.finish = [&s, &slot, t, version] {
+    const uint32_t n = s.model.surface->gridPointCount;
+    const float* lifted = static_cast<const float*>(slot.liftedHeights.mapped);
+    std::memcpy(s.water.liftedHeights.mapped, lifted, size_t(n) * 4);
+    s.water.liftedHeightsVersion = version;
+    HostStage h(*s.model.ctx, "water divergence check (host)");
+    requireSurfaceInScene(s, t, std::vector<float>(lifted, lifted + n));
+  };
+}
+
+// The rest of a water step recorded in the batch whose push was not: the count read back and
+// the push (listed), or the Adam step alone (nothing was pending), then the host's checks.
+void finishWaterStepAfterWait(TrainSession& s, int t, bool listed) {
+  const auto adamAndLift = [&](VkCommandBuffer cb) { cmdWaterAdamAndLift(cb, s, t); };
+  if (listed)
+    pushListedSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad), adamAndLift);
+  else
+    pushWaterGradient(s, adamAndLift);
+  finishSurfaceStep(s, t);
+}
+
 // Whether step t is submitted without waiting (TrainSession::deferSteps): nothing the host does
 // after it at this step reads what it computes. Not where the host changes the Gaussians or
 // checks or steps the water, reads the batch for the progress line, or a batch of a new size
@@ -1210,23 +1242,8 @@ StepResult trainStep(TrainSession& s) {
       const bool pushed = cmdListAndPushSurfaceGradients(cb, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad),
                                                          cachedPointsBoundAfterTrace(*s.model.surface, context.rays()));
       surfacePush = pushed ? InBatchPush::Pushed : InBatchPush::Listed;
-      if (pushed && deferred) {
-        // The lifted heights go to the slot's buffer (the next step's lift may be in flight
-        // when this one's are read), and the host's checks of them run once the step has run.
-        StepBuffers::StepSlot& slot = s.buffers.slots[size_t(t % 2)];
-        cmdWaterAdamAndLift(cb, s, t, &slot.liftedHeights);
-        const uint64_t version = s.model.surface->heightsVersion;
-        slot.finish = [&s, &slot, t, version] {
-          const uint32_t n = s.model.surface->gridPointCount;
-          const float* lifted = static_cast<const float*>(slot.liftedHeights.mapped);
-          std::memcpy(s.water.liftedHeights.mapped, lifted, size_t(n) * 4);
-          s.water.liftedHeightsVersion = version;
-          HostStage h(*s.model.ctx, "water divergence check (host)");
-          requireSurfaceInScene(s, t, std::vector<float>(lifted, lifted + n));
-        };
-      } else if (pushed) {
-        cmdWaterAdamAndLift(cb, s, t);
-      }
+      if (pushed && deferred) cmdDeferredWaterAdamAndLift(cb, s, t);
+      else if (pushed) cmdWaterAdamAndLift(cb, s, t);
     }
     cmdDensityLoss(cb, s);
     if (s.buffers.gaussianOptimiser) cmdGaussianDeviceStep(cb, s, t, batch.rays());
@@ -1240,20 +1257,15 @@ StepResult trainStep(TrainSession& s) {
     }
   }, progressDue);
   StepResult r;
+  // A water step in the batch whose push must read its count back: the rest of it now (waited for).
+  if (surfaceInBatch && surfacePush != InBatchPush::Pushed) finishWaterStepAfterWait(s, t, surfacePush == InBatchPush::Listed);
+  else if (surfaceInBatch && !deferred) finishSurfaceStep(s, t);
   if (deferred) {
     // Nothing more for the host at this step: the device steps the Gaussians and refits their
     // proxies in the batch's submission. The last step is waited for now that this one is
     // queued behind it.
     s.buffers.gaussianCopies = StepBuffers::Copies::DeviceNewer;
     s.deferredSlot = -1;
-    if (surfaceInBatch && surfacePush != InBatchPush::Pushed) {  // the push must read its count: the step is waited for
-      const auto adamAndLift = [&](VkCommandBuffer cb) { cmdWaterAdamAndLift(cb, s, t); };
-      if (surfacePush == InBatchPush::Listed)
-        pushListedSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad), adamAndLift);
-      else
-        pushWaterGradient(s, adamAndLift);
-      finishSurfaceStep(s, t);
-    }
     waitInFlight(*s.model.ctx, 1);
     r.pending = true;
     r.loss = r.imageLoss = r.psnr = NAN;
@@ -1262,16 +1274,7 @@ StepResult trainStep(TrainSession& s) {
     return r;
   }
   if (s.model.surface) r.missed = s.model.surface->lastCounters.missed;  // before a restart's plane sweep traces again
-  if (surfaceInBatch) {
-    const auto adamAndLift = [&](VkCommandBuffer cb) { cmdWaterAdamAndLift(cb, s, t); };
-    if (surfacePush == InBatchPush::Listed)
-      pushListedSurfaceGradients(*s.model.ctx, *s.model.surface, heightSource(*s.model.height, s.water.heightGrad), adamAndLift);
-    else if (surfacePush == InBatchPush::None)
-      pushWaterGradient(s, adamAndLift);  // nothing was pending: the Adam step alone, as surfaceStep takes it
-    finishSurfaceStep(s, t);
-  } else if (surfaceStepAt(s, t)) {
-    surfaceStep(s, t);
-  }
+  if (!surfaceInBatch && surfaceStepAt(s, t)) surfaceStep(s, t);
   if (sweepWatchAt(s, t)) {
     HostStage h(*s.model.ctx, "sweep watch");
     watchWater(s, t);
