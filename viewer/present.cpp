@@ -13,14 +13,8 @@ namespace refrax {
 
 FrameSync createFrameSync(Context& ctx) {
   FrameSync f;
-  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  cai.commandPool = ctx.commandPool;
-  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cai.commandBufferCount = 1;
-  REFRAX_VK(vkAllocateCommandBuffers(ctx.device, &cai, &f.cmd));
-  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  fci.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-  REFRAX_VK(vkCreateFence(ctx.device, &fci, nullptr, &f.fence));
+  f.cmd = allocateCommandBuffer(ctx);
+  f.fence = createFence(ctx, true);
   VkSemaphoreCreateInfo sci{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
   REFRAX_VK(vkCreateSemaphore(ctx.device, &sci, nullptr, &f.imageReady));
   REFRAX_VK(vkCreateSemaphore(ctx.device, &sci, nullptr, &f.renderDone));

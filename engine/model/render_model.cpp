@@ -81,6 +81,19 @@ struct StageClock {
 
 namespace {
 
+// The camera's image from its rays' results (one a pixel, row by row): their colours clamped to [0, 1].
+Image imageOfResults(const GpuTraceResult* results, const Camera& camera) {
+  Image image;
+  image.width = camera.width;
+  image.height = camera.height;
+  image.channels = 3;
+  const size_t n = size_t(camera.width) * size_t(camera.height);
+  image.pixels.resize(n * 3);
+  for (size_t i = 0; i < n; i++)
+    for (int ch = 0; ch < 3; ch++) image.pixels[3 * i + ch] = std::clamp(results[i].rgb[ch], 0.0f, 1.0f);
+  return image;
+}
+
 // An image alone, the learned or a closed-form water kept or the water removed, in one
 // submission where the surface's trace is one (issue 48): the camera rays before the water's
 // trace, the Gaussians and the copy of their results to where the host reads them after it, no
@@ -121,13 +134,7 @@ RenderedView renderImage(Model& m, const Camera& camera, WaterSurface* surface, 
     });
   }
   const auto clampStart = std::chrono::steady_clock::now();
-  const auto* results = static_cast<const GpuTraceResult*>(m.resultsReadback.mapped);
-  out.image.width = camera.width;
-  out.image.height = camera.height;
-  out.image.channels = 3;
-  out.image.pixels.resize(size_t(n) * 3);
-  for (uint32_t i = 0; i < n; i++)
-    for (int ch = 0; ch < 3; ch++) out.image.pixels[3 * i + ch] = std::clamp(results[i].rgb[ch], 0.0f, 1.0f);
+  out.image = imageOfResults(static_cast<const GpuTraceResult*>(m.resultsReadback.mapped), camera);
   if (options.stageMs) {
     std::vector<std::pair<std::string, double>> stages = stamped ? readTimer(timer) : std::vector<std::pair<std::string, double>>{};
     if (!surface) stages.erase(std::remove_if(stages.begin(), stages.end(), [](const auto& st) { return st.first == "water"; }), stages.end());
@@ -195,13 +202,7 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
   const TraceOptions opt = viewTraceOptions(m);
   submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, m.tracer, m.proxies, m.device, *traced, m.results, n, opt); });
   clock.lap("gaussians");
-  auto results = downloadVector<GpuTraceResult>(ctx, m.results, n);
-  out.image.width = camera.width;
-  out.image.height = camera.height;
-  out.image.channels = 3;
-  out.image.pixels.resize(size_t(n) * 3);
-  for (uint32_t i = 0; i < n; i++)
-    for (int ch = 0; ch < 3; ch++) out.image.pixels[3 * i + ch] = std::clamp(results[i].rgb[ch], 0.0f, 1.0f);
+  out.image = imageOfResults(downloadVector<GpuTraceResult>(ctx, m.results, n).data(), camera);
   clock.lap("image");
   return out;
 }

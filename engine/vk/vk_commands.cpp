@@ -28,13 +28,8 @@ void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& rec
 
 SubmitSlot createSubmitSlot(Context& ctx) {
   SubmitSlot slot;
-  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  cai.commandPool = ctx.commandPool;
-  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cai.commandBufferCount = 1;
-  REFRAX_VK(vkAllocateCommandBuffers(ctx.device, &cai, &slot.cb));
-  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  REFRAX_VK(vkCreateFence(ctx.device, &fci, nullptr, &slot.fence));
+  slot.cb = allocateCommandBuffer(ctx);
+  slot.fence = createFence(ctx);
   return slot;
 }
 

@@ -339,16 +339,29 @@ void createCommandObjects(Context& ctx) {
   pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pci.queueFamilyIndex = ctx.queueFamily;
   REFRAX_VK(vkCreateCommandPool(ctx.device, &pci, nullptr, &ctx.commandPool));
+  ctx.commandBuffer = allocateCommandBuffer(ctx);
+  ctx.fence = createFence(ctx);
+}
+
+}  // namespace
+
+VkCommandBuffer allocateCommandBuffer(Context& ctx) {
   VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   cai.commandPool = ctx.commandPool;
   cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   cai.commandBufferCount = 1;
-  REFRAX_VK(vkAllocateCommandBuffers(ctx.device, &cai, &ctx.commandBuffer));
-  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  REFRAX_VK(vkCreateFence(ctx.device, &fci, nullptr, &ctx.fence));
+  VkCommandBuffer cb = VK_NULL_HANDLE;
+  REFRAX_VK(vkAllocateCommandBuffers(ctx.device, &cai, &cb));
+  return cb;
 }
 
-}  // namespace
+VkFence createFence(Context& ctx, bool signalled) {
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  if (signalled) fci.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+  VkFence fence = VK_NULL_HANDLE;
+  REFRAX_VK(vkCreateFence(ctx.device, &fci, nullptr, &fence));
+  return fence;
+}
 
 std::unique_ptr<Context> createContext(const ContextOptions& options) {
   auto ctx = std::make_unique<Context>();

@@ -111,6 +111,9 @@ struct Context {
 // Every Vulkan device the loader sees, with what each offers.
 std::vector<DeviceCaps> listDevices();
 std::unique_ptr<Context> createContext(const ContextOptions& options = {});
+// A primary command buffer from the context's pool, and a fence (signalled: already set).
+VkCommandBuffer allocateCommandBuffer(Context& ctx);
+VkFence createFence(Context& ctx, bool signalled = false);
 // "refrax: device [i] NAME (DRIVER), BACKEND trace[, validation on]" on stderr: what
 // createContext prints when verbose (a command that checks its input after opening the device
 // prints it once the input has passed).
