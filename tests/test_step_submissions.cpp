@@ -61,16 +61,20 @@ GPU_TEST_CASE("training: the water's surface step in the batch's submission lear
     const SteppedWater separate = trainSteps(ctx, false, surfaceBatch, kSteps);
     const SteppedWater inBatch = trainSteps(ctx, true, surfaceBatch, kSteps);
     // How far the water moved (Adam moves each weight up to about the learning rate a step),
-    // against how far the two paths ended apart: the sums are taken in another order (the
-    // listed points are appended by atomics), so not bit for bit. Measured (lavapipe): moved
-    // 0.019 and 0.011, apart 1e-6 to 2.6e-5; the same path twice ends 6e-7 to 5e-6 apart.
+    // against how far the two paths ended apart: the sums are taken in another order (atomics),
+    // so not bit for bit. Measured (lavapipe): moved 0.019 and 0.011; with the ray-query trace
+    // apart 1e-6 to 2.6e-5, the same path twice 6e-7 to 5e-6; with the compute trace, every
+    // step a water step, the same path twice ends either about 1e-6 or 0.003 to 0.008 apart
+    // (0.43x the move), per run. A push that leaves out the cache's points or the priors'
+    // gradient ends 0.02 to 0.05 apart (1.7x the move and more).
     const SteppedWater start = trainSteps(ctx, true, surfaceBatch, 0);
     const double moved = maxDifference(start.contents.heightWeights, separate.contents.heightWeights);
     const double apart = maxDifference(inBatch.contents.heightWeights, separate.contents.heightWeights);
     MESSAGE("surface batch " << surfaceBatch << ": the water's weights moved up to " << moved << ", the two paths ended " << apart << " apart");
     CHECK(moved > 1e-3);
-    CHECK(apart <= 5e-3 * moved);
-    CHECK(maxDifference(inBatch.contents.heightM, separate.contents.heightM) <= 5e-3 * moved);
+    const double bound = (ctx.trace == TraceBackend::Compute ? 0.6 : 5e-3) * moved;
+    CHECK(apart <= bound);
+    CHECK(maxDifference(inBatch.contents.heightM, separate.contents.heightM) <= bound);
     CHECK(inBatch.contents.heightStep == separate.contents.heightStep);
     // One submission fewer per surface step.
     const uint64_t surfaceSteps = uint64_t(kSteps / surfaceBatch);
