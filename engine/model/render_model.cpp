@@ -62,24 +62,26 @@ void collectSurfacePoints(const Model& m, const std::vector<GpuRay>& rays, const
 
 namespace {
 
+using StageTimes = std::vector<std::pair<std::string, double>>;
+
+// Adds `ms` to the stage's total, a new stage last.
+void addStageMs(StageTimes& stages, const std::string& stage, double ms) {
+  for (auto& [name, total] : stages)
+    if (name == stage) return void(total += ms);
+  stages.push_back({stage, ms});
+}
+
 // Adds the wall time since the last call to `stage` (when timing).
 struct StageClock {
-  std::vector<std::pair<std::string, double>>* stages;
+  StageTimes* stages;
   std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
   void lap(const char* stage) {
     if (!stages) return;
     const auto now = std::chrono::steady_clock::now();
-    const double ms = std::chrono::duration<double, std::milli>(now - last).count();
+    addStageMs(*stages, stage, std::chrono::duration<double, std::milli>(now - last).count());
     last = now;
-    for (auto& [name, total] : *stages)
-      if (name == stage) return void(total += ms);
-    stages->push_back({stage, ms});
   }
 };
-
-}  // namespace
-
-namespace {
 
 // The camera's image from its rays' results (one a pixel, row by row): their colours clamped to [0, 1].
 Image imageOfResults(const GpuTraceResult* results, const Camera& camera) {
@@ -115,7 +117,7 @@ RenderedView renderImage(Model& m, const Camera& camera, WaterSurface* surface, 
     if (stamped) cmdTimerStamp(cb, timer, "camera rays");
   };
   auto gaussians = [&](VkCommandBuffer cb) {
-    if (stamped) cmdTimerStamp(cb, timer, "water");
+    if (stamped && surface) cmdTimerStamp(cb, timer, "water");
     cmdBarrier(cb);
     cmdTraceForward(cb, m.tracer, m.proxies, m.device, traced, m.results, n, opt);
     if (stamped) cmdTimerStamp(cb, timer, "gaussians");
@@ -136,14 +138,9 @@ RenderedView renderImage(Model& m, const Camera& camera, WaterSurface* surface, 
   const auto clampStart = std::chrono::steady_clock::now();
   out.image = imageOfResults(static_cast<const GpuTraceResult*>(m.resultsReadback.mapped), camera);
   if (options.stageMs) {
-    std::vector<std::pair<std::string, double>> stages = stamped ? readTimer(timer) : std::vector<std::pair<std::string, double>>{};
-    if (!surface) stages.erase(std::remove_if(stages.begin(), stages.end(), [](const auto& st) { return st.first == "water"; }), stages.end());
-    stages.push_back({"image (host)", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - clampStart).count()});
-    for (const auto& [stage, ms] : stages) {
-      auto it = std::find_if(options.stageMs->begin(), options.stageMs->end(), [&](const auto& st) { return st.first == stage; });
-      if (it == options.stageMs->end()) options.stageMs->push_back({stage, ms});
-      else it->second += ms;
-    }
+    if (stamped)
+      for (const auto& [stage, ms] : readTimer(timer)) addStageMs(*options.stageMs, stage, ms);
+    addStageMs(*options.stageMs, "image (host)", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - clampStart).count());
   }
   return out;
 }

@@ -428,10 +428,8 @@ void traceSurface(Context& ctx, WaterSurface& ws, const HeightSource& heights, c
       cmdCopyToHost(cb, ws.counters, 0, ws.countersReadback, 0, kCounterCount * 4);
     };
     if (hooks.submit) {
-      const uint32_t before = emptyCache ? 0u : ws.cachedPoints;
-      hooks.submit(record);
-      ws.cachedPoints = uint32_t(std::min<uint64_t>(ws.pointCapacity, uint64_t(before) + bound));
-      ws.lastCounters.points = ws.cachedPoints;
+      hooks.submit(record);  // which emptied the host's count with the cache, if it did
+      ws.cachedPoints = ws.lastCounters.points = cachedPointsBoundAfterTrace(ws, count);
       return;
     }
     submitPass(t, record);

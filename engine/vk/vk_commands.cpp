@@ -7,21 +7,29 @@
 
 namespace refrax {
 
-void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& record) {
-  waitInFlight(ctx);
-  VkCommandBuffer cb = ctx.commandBuffer;
+namespace {
+// Records into cb (reset) and submits it on the compute queue with `fence` (reset), no wait.
+void recordAndSubmit(Context& ctx, VkCommandBuffer cb, VkFence fence, const std::function<void(VkCommandBuffer)>& record) {
   REFRAX_VK(vkResetCommandBuffer(cb, 0));
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   REFRAX_VK(vkBeginCommandBuffer(cb, &bi));
-  profileSubmitBegin(cb, ctx);
   record(cb);
   REFRAX_VK(vkEndCommandBuffer(cb));
-  REFRAX_VK(vkResetFences(ctx.device, 1, &ctx.fence));
+  REFRAX_VK(vkResetFences(ctx.device, 1, &fence));
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cb;
-  REFRAX_VK(vkQueueSubmit(ctx.queue, 1, &si, ctx.fence));
+  REFRAX_VK(vkQueueSubmit(ctx.queue, 1, &si, fence));
+}
+}  // namespace
+
+void submitAndWait(Context& ctx, const std::function<void(VkCommandBuffer)>& record) {
+  waitInFlight(ctx);
+  recordAndSubmit(ctx, ctx.commandBuffer, ctx.fence, [&](VkCommandBuffer cb) {
+    profileSubmitBegin(cb, ctx);
+    record(cb);
+  });
   REFRAX_VK(vkWaitForFences(ctx.device, 1, &ctx.fence, VK_TRUE, UINT64_MAX));
   profileSubmitEnd(ctx);
 }
@@ -42,18 +50,10 @@ void destroySubmitSlot(Context& ctx, SubmitSlot& slot) {
 
 void submitWithoutWait(Context& ctx, SubmitSlot& slot, const std::function<void(VkCommandBuffer)>& record, std::function<void()> done) {
   while (slot.inFlight) waitInFlight(ctx, ctx.inFlight.size() - 1);  // its last submission is the oldest left
-  REFRAX_VK(vkResetCommandBuffer(slot.cb, 0));
-  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  REFRAX_VK(vkBeginCommandBuffer(slot.cb, &bi));
-  cmdBarrier(slot.cb);  // after everything submitted before, this one's earlier submissions included
-  record(slot.cb);
-  REFRAX_VK(vkEndCommandBuffer(slot.cb));
-  REFRAX_VK(vkResetFences(ctx.device, 1, &slot.fence));
-  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &slot.cb;
-  REFRAX_VK(vkQueueSubmit(ctx.queue, 1, &si, slot.fence));
+  recordAndSubmit(ctx, slot.cb, slot.fence, [&](VkCommandBuffer cb) {
+    cmdBarrier(cb);  // after everything submitted before, this one's earlier submissions included
+    record(cb);
+  });
   slot.inFlight = true;
   bool* flag = &slot.inFlight;
   ctx.inFlight.push_back({slot.fence, [flag, done = std::move(done)] {

@@ -46,10 +46,7 @@ HostStage::~HostStage() {
 }
 
 void profileSubmitBegin(VkCommandBuffer cb, Context& ctx) {
-  if (!ctx.profiler) return;
-  ctx.profiler->submits++;
-  ctx.profiler->recording = &ctx.profiler->timer;
-  if (ctx.profiler->gpu) cmdTimerStart(cb, ctx.profiler->timer);
+  if (ctx.profiler) profileSubmitBegin(cb, ctx, ctx.profiler->timer);
 }
 
 void profileSubmitBegin(VkCommandBuffer cb, Context& ctx, GpuTimer& timer) {
