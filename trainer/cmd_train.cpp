@@ -157,9 +157,11 @@ int runTrain(const cli::Args& args) {
       if (older.empty()) throw;
       fail(std::string(e.what()) + "; " + older + " is intact: remove " + ckpt + " to resume from it");
     }
+    // The refit starts after the run's steps: moving them would move it under a resumed run.
+    if (stored.schedule.refitSteps > 0 && args.has("steps")) fail("--steps cannot change on --resume of a run with --refit (" + run + ")");
     for (const TrainOption& o : trainOptionTable())
       if (o.resumable && args.has(o.flag)) o.set(stored, o.parse(args.get(o.flag), "--" + o.flag), "--" + o.flag);
-    if (int reached = checkpointStep(ckpt); stored.steps < reached)
+    if (int reached = checkpointStep(ckpt); totalSteps(stored) < reached)
       fail("--steps " + std::to_string(stored.steps) + " is below the step the run has reached (" + std::to_string(reached) + ", " + ckpt + ")");
     auto ctx = cli::openContext(args);
     auto session = openRun(*ctx, run);
@@ -168,7 +170,7 @@ int runTrain(const cli::Args& args) {
     session->model.config.evalEvery = stored.evalEvery;
     session->model.config.checkpointEvery = stored.checkpointEvery;
     writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->model.config));
-    std::fprintf(stderr, "resuming %s at step %d of %d\n", run.c_str(), session->model.step, session->model.config.steps);
+    std::fprintf(stderr, "resuming %s at step %d of %d\n", run.c_str(), session->model.step, totalSteps(session->model.config));
     printSummary(trainToEnd(*session, run, progress));
     if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->log.profiler).c_str());
     return 0;
@@ -208,9 +210,10 @@ int runTrain(const cli::Args& args) {
   writeJson((fs::path(run) / "config.json").string(), trainConfigToJson(session->model.config));
   printModelSizing(config);  // once everything is checked: a refused run prints one line
   const std::string atPoints = config.initPoints ? " (" + std::to_string(session->log.gaussiansAtPoints) + " at sparse points)" : "";
-  std::fprintf(stderr, "training %s (%s): %u Gaussians%s, %d steps, %zu training views -> %s\n", config.dataset.c_str(),
-               waterModelName(config.model), config.initialGaussians, atPoints.c_str(), config.steps, session->dataset.split("train").size(),
-               run.c_str());
+  const std::string refit = config.schedule.refitSteps > 0 ? " and a refit of " + std::to_string(config.schedule.refitSteps) : "";
+  std::fprintf(stderr, "training %s (%s): %u Gaussians%s, %d steps%s, %zu training views -> %s\n", config.dataset.c_str(),
+               waterModelName(config.model), config.initialGaussians, atPoints.c_str(), config.steps, refit.c_str(),
+               session->dataset.split("train").size(), run.c_str());
   printSummary(trainToEnd(*session, run, progress));
   if (progress.profile) std::fprintf(stderr, "%s", profileTable(session->log.profiler).c_str());
   return 0;

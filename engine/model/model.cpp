@@ -123,7 +123,7 @@ void growModelRayCapacity(Model& m, uint32_t n) {
 
 uint32_t shDegreeAt(const TrainConfig& c, int step) {
   if (c.gaussiansFixed) return c.maxShDegree;  // Gaussians read as trained: their colours need every degree
-  return std::min<uint32_t>(c.maxShDegree, uint32_t(std::max(0, step - 1) / c.schedule.shDegreeInterval));
+  return std::min<uint32_t>(c.maxShDegree, uint32_t(std::max(0, gaussianScheduleStep(c, step) - 1) / c.schedule.shDegreeInterval));
 }
 
 std::vector<double> viewWeights(const Model& m, const std::vector<View>& views) {

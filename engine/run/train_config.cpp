@@ -58,6 +58,10 @@ void resolveSchedule(TrainConfig& c) {
   scaled(k.pruneLargeFrom, 3000, s, 0);
 }
 
+int totalSteps(const TrainConfig& c) { return c.steps + c.schedule.refitSteps; }
+int gaussianScheduleStep(const TrainConfig& c, int t) { return c.schedule.refitSteps > 0 && t > c.steps ? t - c.steps : t; }
+bool refitStartsAt(const TrainConfig& c, int t) { return c.schedule.refitSteps > 0 && t == c.steps + 1; }
+
 float encodingWindowAt(const TrainConfig& c, int t) {
   if (c.mlpOctaves == 0 || c.mlpCoarseOctaves >= c.mlpOctaves) return 1.0f;
   int from = c.schedule.surfaceFreeze, until = c.schedule.octavesOpenUntil;
@@ -107,6 +111,8 @@ void validateTrainConfig(const TrainConfig& c) {
   for (int a = 0; a < 3; a++) need(c.boxMax[a] >= c.boxMin[a], "the initial Gaussian box is empty");
   need(c.schedule.shDegreeInterval >= 1, "--sh-interval must be at least 1");
   need(c.schedule.lrSteps >= 1, "--lr-steps must be at least 1");
+  need(c.schedule.refitSteps >= 0, "--refit must be a step count >= 0");
+  need(c.schedule.refitSteps == 0 || !c.gaussiansFixed, "--refit draws the Gaussians afresh: not with --gaussians-fixed");
   need(c.schedule.surfaceUntil >= 0, "--surface-until must be a step count >= 0");
   need(c.schedule.surfaceUntil == 0 || c.schedule.surfaceUntil > c.schedule.surfaceFreeze,
        "--surface-until must come after --surface-freeze (" + std::to_string(c.schedule.surfaceFreeze) + "), or the surface never learns");

@@ -50,6 +50,12 @@ struct ScheduleSteps {
   int pruneLargeFrom = -1;       // pruning of over-large Gaussians from ...; reference 3,000
   int lrSteps = -1;              // length of the decaying learning-rate schedules; reference 30,000
   std::vector<int> gaussianRestarts;  // Gaussians drawn afresh after these steps (none: the reference)
+  // The refit: after the run's `steps`, this many more steps of Gaussians drawn afresh under the
+  // water as it was learned, held fixed, their schedule counted again from the refit's start
+  // (0: none). Why: Gaussians fitted while the water moved keep its history in their colours;
+  // fresh ones under the learned water of evaluation scene 1008 ended 1.3 dB higher
+  // (docs/experiments/2026-12-05-water-valley.md).
+  int refitSteps = 0;
 };
 
 struct TrainConfig {
@@ -226,6 +232,13 @@ struct TrainConfig {
 
 // Fills every unset step count of the schedule from the reference values scaled by steps / 15000.
 void resolveSchedule(TrainConfig& config);
+// The run's last step: steps, and the refit's after them.
+int totalSteps(const TrainConfig& config);
+// The Gaussians' schedule (densification, density events, SH degree) at step t: counted from the
+// refit's start in the refit, so it runs again as in the run's first `steps`.
+int gaussianScheduleStep(const TrainConfig& config, int t);
+// Whether the refit's fresh Gaussians are drawn before step t (the first step after `steps`).
+bool refitStartsAt(const TrainConfig& config, int t);
 // The height field's encoding window (HeightFieldConfig::encodingWindow) at step t.
 float encodingWindowAt(const TrainConfig& config, int t);
 // The window the height field holds after step t: the surface is lifted for the next step

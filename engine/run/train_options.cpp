@@ -358,6 +358,16 @@ std::vector<TrainOption> makeTable() {
     o.required = false;
     t.push_back(o);
   }
+  {
+    // Not scaled with --steps, and absent from runs written before it: 0, none.
+    TrainOption o = step("refit", "refit_steps",
+                         "after --steps, N more steps of Gaussians drawn afresh under the water as learned (then held fixed), their "
+                         "densification, density and SH schedule counted again from the refit's start: Gaussians fitted while the water "
+                         "moved keep its history in their colours (docs/training.md) (0: none)",
+                         &ScheduleSteps::refitSteps, "0");
+    o.required = false;
+    t.push_back(o);
+  }
   t.push_back(step("face-normals-until", "face_normals_until", "flat face normals until step N, then interpolated",
                    &ScheduleSteps::faceNormalsUntil, "7500 x steps/15000"));
   t.push_back(real("surface-smoothness", "surface_smoothness", "X",

@@ -80,7 +80,7 @@ std::string surfaceWatchPath(const std::string& runDir) { return (std::filesyste
 bool watchesSurface(const TrainSession& s) { return s.model.config.model == WaterModel::Refraction && s.model.height && s.model.surface; }
 
 // About a hundred samples a run, whatever its progress lines.
-int surfaceWatchInterval(const TrainConfig& c) { return std::max(1, c.steps / 100); }
+int surfaceWatchInterval(const TrainConfig& c) { return std::max(1, c.steps / 100); }  // the water's run, not a refit
 
 // Above this ratio of plane-sweep costs (learned water over flat) the run warns that its surface
 // may be further from the truth than the flat start. Why 1.02 and not 1: on 24 tiny-preset runs
@@ -325,6 +325,9 @@ void sayStepEvents(const TrainSession& s, const StepResult& r, const std::functi
     if (!s.log.scaleSearches.empty() && s.log.scaleSearches.back().step == s.model.step) say(scaleSearchLine(s.log.scaleSearches.back()));
     say("step " + std::to_string(s.model.step) + ": the Gaussians drawn afresh (" + std::to_string(r.gaussians) + how + ")");
   }
+  if (r.refitStarted)
+    say("step " + std::to_string(s.model.step) + ": the refit: " + std::to_string(c.schedule.refitSteps) + " steps of Gaussians drawn afresh (" +
+        std::to_string(r.gaussians) + ") under the water as learned, held fixed");
   if (!s.log.restartGateChecks.empty() && s.log.restartGateChecks.back().step == s.model.step && !s.log.restartGateChecks.back().restarted)
     say(restartGateLine(s.log.restartGateChecks.back()));
   if (!s.log.watchChecks.empty() && s.log.watchChecks.back().step == s.model.step && s.log.watchChecks.back().rolledBack)
@@ -359,9 +362,10 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
     }
     pendingSteps.clear();
   };
-  while (s.model.step < c.steps) {
+  const int last = totalSteps(c);
+  while (s.model.step < last) {
     if (progress.timeLimitSeconds > 0 && s.model.trainingSeconds - startSeconds >= progress.timeLimitSeconds) {
-      say("stopping at step " + std::to_string(s.model.step) + " of " + std::to_string(c.steps) + ": the time limit (" +
+      say("stopping at step " + std::to_string(s.model.step) + " of " + std::to_string(last) + ": the time limit (" +
           std::to_string(int(progress.timeLimitSeconds)) + " s of training) is reached; --resume continues");
       break;
     }
@@ -380,21 +384,24 @@ nlohmann::json trainToEnd(TrainSession& s, const std::string& runDir, const Trai
       watchLoss += r.imageLoss;
       watchSteps++;
     }
-    if ((s.model.step % surfaceWatchInterval(c) == 0 || s.model.step == c.steps) && watchesSurface(s) && s.log.surfaceShapeMeasured) {
+    // The watch samples the water's run, not the refit's (the water held, its Gaussians fresh).
+    const int watchEnd = c.steps;
+    if ((s.model.step % surfaceWatchInterval(c) == 0 || s.model.step == watchEnd) && s.model.step <= watchEnd && watchesSurface(s) &&
+        s.log.surfaceShapeMeasured) {
       s.log.surfaceWatch.push_back({s.model.step, watchLoss / watchSteps, s.log.surfaceShape});
       watchLoss = 0;
       watchSteps = 0;
     }
-    if (s.model.step % c.progressEvery == 0 || s.model.step == c.steps) {
+    if (s.model.step % c.progressEvery == 0 || s.model.step == last) {
       double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       double rate = (s.model.step - first) / std::max(elapsed, 1e-9);
       char line[256];
-      std::snprintf(line, sizeof line, "step %6d/%d  loss %.5f  psnr %6.2f  gaussians %u  %.2f steps/s  eta %.0f s", s.model.step, c.steps, r.loss,
-                    r.psnr, r.gaussians, rate, (c.steps - s.model.step) / std::max(rate, 1e-9));
+      std::snprintf(line, sizeof line, "step %6d/%d  loss %.5f  psnr %6.2f  gaussians %u  %.2f steps/s  eta %.0f s", s.model.step, last, r.loss,
+                    r.psnr, r.gaussians, rate, (last - s.model.step) / std::max(rate, 1e-9));
       say(std::string(line) + (progress.profile ? "  | " + profileTop(s.log.profiler, 3) : ""));
     }
     // An evaluation traces the water and a checkpoint saves the gradient summed so far.
-    const bool evaluate = c.evalEvery > 0 && s.model.step % c.evalEvery == 0 && s.model.step < c.steps;
+    const bool evaluate = c.evalEvery > 0 && s.model.step % c.evalEvery == 0 && s.model.step < last;
     const bool checkpoint = c.checkpointEvery > 0 && s.model.step % c.checkpointEvery == 0;
     if (evaluate || checkpoint) pushWaterGradient(s);
     if (evaluate) {

@@ -29,7 +29,7 @@ struct TrainProgress {
   double timeLimitSeconds = 0;  // > 0: stop after the step that reaches this much training time (--time-limit)
 };
 
-// Trains from the session's current step to config.steps, writing checkpoints, then the
+// Trains from the session's current step to totalSteps(config), writing checkpoints, then the
 // final outputs. runDir must exist and hold config.json.
 nlohmann::json trainToEnd(TrainSession& session, const std::string& runDir, const TrainProgress& progress);
 

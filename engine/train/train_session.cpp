@@ -246,9 +246,13 @@ void drawGaussians(TrainSession& s) {
 }
 
 // --surface-until N ends the water's learning with its last surface step at or before N, so
-// no step after it adds to a sum that no surface step would apply (0: never ends).
+// no step after it adds to a sum that no surface step would apply (0: never ends); a refit
+// ends it at the run's `steps` at the latest (its Gaussians learn under the water held).
 int lastWaterStep(const TrainSession& s) {
-  const int freeze = s.model.config.schedule.surfaceFreeze, until = s.model.config.schedule.surfaceUntil;
+  const TrainConfig& c = s.model.config;
+  const int freeze = c.schedule.surfaceFreeze;
+  int until = c.schedule.surfaceUntil;
+  if (c.schedule.refitSteps > 0) until = until == 0 ? c.steps : std::min(until, c.steps);
   if (until == 0) return std::numeric_limits<int>::max();
   return freeze + (until - freeze) / surfaceBatchSteps(s) * surfaceBatchSteps(s);
 }
@@ -435,9 +439,12 @@ void ensureSurfacePrior(TrainSession& s) {
   if (s.water.priorHeightsVersion != s.model.surface->heightsVersion) computeSurfacePrior(s);
 }
 
+// The Gaussians' schedule counts from the refit's start in the refit (gaussianScheduleStep).
+uint32_t gaussianStepAt(const TrainSession& s, int t) { return uint32_t(gaussianScheduleStep(s.model.config, t)); }
+
 void applyDensitySchedule(TrainSession& s, int t) {
-  if (densityDecayDue(s.densifyConfig, uint32_t(t))) densityDecay(s.model.gaussians, s.densifyConfig);
-  if (densityResetDue(s.densifyConfig, uint32_t(t))) {
+  if (densityDecayDue(s.densifyConfig, gaussianStepAt(s, t))) densityDecay(s.model.gaussians, s.densifyConfig);
+  if (densityResetDue(s.densifyConfig, gaussianStepAt(s, t))) {
     densityReset(s.model.gaussians, s.densifyConfig);
     resetAdamColumns(s.state.gaussianAdam, "density");
   }
@@ -836,8 +843,8 @@ double gaussianStep(TrainSession& s, int t, uint32_t batchRays) {
 // the density loss after it).
 void cmdGaussianDeviceStep(VkCommandBuffer cb, TrainSession& s, int t, uint32_t batchRays) {
   GaussianStepEvents events;
-  events.decay = densityDecayDue(s.densifyConfig, uint32_t(t));
-  events.reset = densityResetDue(s.densifyConfig, uint32_t(t));
+  events.decay = densityDecayDue(s.densifyConfig, gaussianStepAt(s, t));
+  events.reset = densityResetDue(s.densifyConfig, gaussianStepAt(s, t));
   events.statScale = densifyStatScale(batchRays);
   cmdBarrier(cb);
   cmdGaussianStep(cb, *s.buffers.gaussianOptimiser, s.state.gaussianAdam, s.model.device.params, s.buffers.grads, s.buffers.stats, events,
@@ -848,7 +855,7 @@ void cmdGaussianDeviceStep(VkCommandBuffer cb, TrainSession& s, int t, uint32_t 
 // MCMC relocation and growth when due; true when rows were added or moved (relocated rows
 // jump across the scene: the proxies are rebuilt rather than refitted).
 bool mcmcStep(TrainSession& s, int t) {
-  if (!densifyDue(s.densifyConfig, uint32_t(t))) return false;
+  if (!densifyDue(s.densifyConfig, gaussianStepAt(s, t))) return false;
   HostStage h(*s.model.ctx, "densification (host)");
   std::vector<uint32_t> rowMap;
   s.log.lastMcmc = mcmcDensify(s.model.gaussians, s.mcmcConfig, s.state.rng, rowMap);
@@ -861,11 +868,11 @@ bool mcmcStep(TrainSession& s, int t) {
 // hostGaussianEventAt.
 bool cloneSplitAt(const TrainSession& s, int t) {
   const TrainConfig& c = s.model.config;
-  return c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, uint32_t(t));
+  return c.densify && c.schedule.densifyInterval > 0 && densifyDue(s.densifyConfig, gaussianStepAt(s, t));
 }
 bool pruneAt(const TrainSession& s, int t) {
   const TrainConfig& c = s.model.config;
-  return c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, uint32_t(t));
+  return c.densify && c.schedule.pruneInterval > 0 && pruneDue(s.densifyConfig, gaussianStepAt(s, t));
 }
 bool restartAt(const TrainSession& s, int t) {
   const std::vector<int>& restarts = s.model.config.schedule.gaussianRestarts;
@@ -889,7 +896,7 @@ bool densifyOnDeviceStep(TrainSession& s, int t) {
   HostStage h(ctx, "densification (device)");
   if (!s.buffers.densifyPipelines) s.buffers.densifyPipelines = createDeviceDensifyPipelines(ctx);
   const DensifyStats& d = s.log.lastDensify = densifyOnDevice(ctx, *s.buffers.densifyPipelines, s.model.device, *s.buffers.gaussianOptimiser,
-                                                              s.densifyConfig, uint32_t(t), s.state.rng);
+                                                              s.densifyConfig, gaussianStepAt(s, t), s.state.rng);
   const size_t n = d.after;
   s.model.gaussians.params.resize(n * kGaussianFloats);
   s.state.gaussianAdam.m.resize(n * kGaussianFloats);
@@ -913,7 +920,7 @@ bool densifyStep(TrainSession& s, int t) {
   HostStage h(*s.model.ctx, "densification (host)");
   size_t before = s.model.gaussians.count();
   std::vector<uint32_t> rowMap;
-  s.log.lastDensify = densify(s.model.gaussians, s.state.densifyStats, s.densifyConfig, uint32_t(t), s.state.rng, rowMap);
+  s.log.lastDensify = densify(s.model.gaussians, s.state.densifyStats, s.densifyConfig, gaussianStepAt(s, t), s.state.rng, rowMap);
   remapTableAdamRows(s.state.gaussianAdam, rowMap);
   // The statistics restart after a clone/split (3DGS); a prune alone keeps the survivors'.
   std::vector<float> kept(rowMap.size() * 2, 0.0f);
@@ -1076,6 +1083,18 @@ bool restartStep(TrainSession& s, int t) {
   return true;
 }
 
+// The refit's start, before the first step after `steps`: the Gaussians drawn afresh under the
+// water as learned (which no longer learns), their schedule counted from here. Before the
+// step rather than after the last, so an evaluation or checkpoint at `steps` holds the
+// run's own Gaussians.
+void startRefit(TrainSession& s) {
+  HostStage h(*s.model.ctx, "refit draw");
+  pushWaterGradient(s);
+  drawGaussians(s);
+  s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;
+  syncGaussians(s, true);
+}
+
 // The plane sweep through the water lifted from `heights` (left lifted from it), on pc's grid;
 // a pc without a cell size gets these views' (so a second sweep compares on the same grid),
 // through kMaxSweepViews views at most.
@@ -1175,7 +1194,8 @@ void finishWaterStepAfterWait(TrainSession& s, int t, bool listed) {
 // cache holding a gradient; and every syncEvery steps, so the surface watch's loss is whole.
 bool deferredStepAt(const TrainSession& s, int t, const StepBatch& b, bool progressDue, bool proxiesInBatch) {
   const TrainConfig& c = s.model.config;
-  if (!s.deferSteps || !proxiesInBatch || progressDue || t == c.steps || t % std::max(1, s.syncEvery) == 0) return false;
+  if (!s.deferSteps || !proxiesInBatch || progressDue || t == totalSteps(c) || t % std::max(1, s.syncEvery) == 0) return false;
+  if (refitStartsAt(c, t) || refitStartsAt(c, t + 1)) return false;  // the refit's draw, said at its first step, follows the last
   // A water step only in the batch's submission, and without the anchor's re-lift or the priors
   // (which read its lifted heights before the next step is recorded).
   const bool waterStep = surfaceStepAt(s, t);
@@ -1209,11 +1229,13 @@ TrainSession::~TrainSession() {
 StepResult trainStep(TrainSession& s) {
   auto start = std::chrono::steady_clock::now();
   const int t = ++s.model.step;
+  const bool refitStart = refitStartsAt(s.model.config, t);
+  if (refitStart) startRefit(s);
   const StepBatch batch = nextStepBatch(s);
   const TraceOptions opt = stepTraceOptions(s, batch, t);
   pushGaussians(s);  // what the host changed (a loaded checkpoint) before the device steps on it
   // The batch's PSNR is read back for the progress line only (StepResult::psnr).
-  const bool progressDue = t % s.model.config.progressEvery == 0 || t == s.model.config.steps;
+  const bool progressDue = t % s.model.config.progressEvery == 0 || t == totalSteps(s.model.config);
   // A device step with nothing for the host to change after it refits the proxies in its own
   // command buffer: one submission fewer (issue 48).
   const bool proxiesInBatch = s.buffers.gaussianOptimiser.has_value() && !hostGaussianEventAt(s, t);
@@ -1282,6 +1304,7 @@ StepResult trainStep(TrainSession& s) {
   const double densityLoss = gaussianStep(s, t, batch.rays());
   const bool countChanged = densifyStep(s, t);
   r.restarted = restartStep(s, t);
+  r.refitStarted = refitStart;
   {
     HostStage h(*s.model.ctx, "gaussian upload and proxies");
     if (!proxiesInBatch) syncGaussians(s, countChanged || r.restarted);

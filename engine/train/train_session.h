@@ -53,6 +53,7 @@ struct StepResult {
   uint32_t gaussians = 0;
   uint32_t missed = 0;    // rays that missed the surface domain
   bool restarted = false; // the Gaussians were drawn afresh after this step (--restart-gaussians)
+  bool refitStarted = false;  // ... or before it, as the refit began (--refit)
   // Submitted and not waited for (TrainSession::deferSteps): the losses above are NaN until
   // readStepLosses reads them once the step has run.
   bool pending = false;
