@@ -1,6 +1,8 @@
 // refrax render RUN -o DIR: renders a trained run's views (a dataset split or one look-at
 // camera) with the learned water kept, removed, or swapped for a built-in surface or for any
-// triangle mesh from a glTF file.
+// triangle mesh from a glTF file, through the viewer's frame (engine/frame/frame_renderer.h):
+// the water baked once per run, a frame one submission; --exact-water traces the trainer's
+// subdivided surface instead, as training and `refrax eval` do.
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -18,6 +20,8 @@
 #include "engine/surface/mesh_surface.h"
 #include "engine/model/render_model.h"
 #include "engine/model/open_model.h"
+#include "engine/frame/frame_renderer.h"
+#include "engine/frame/view_scene.h"
 #include "engine/vk/vk_context.h"
 #include "engine/vk/vk_profile.h"
 #include "engine/app/cli.h"
@@ -39,14 +43,18 @@ std::vector<double> parseList(const std::string& text, size_t count, const char*
   return v;
 }
 
-// flat[:HEIGHT] or sine[:HEIGHT:AMPLITUDE:WAVELENGTH:DIRECTION_DEG] (engine/surface/builtin_surface_spec.h)
-// as the closed-form surface the tracer lifts.
-AnalyticWaves builtinWaves(const std::string& spec, double defaultHeight) {
+// keep, remove, a built-in surface (engine/surface/builtin_surface_spec.h) or a glTF mesh, as
+// the frame's settings; the spec is checked here, before anything is opened or written.
+void setWater(const std::string& spec, float level, bool gltf, RenderSettings& rs) {
+  if (spec == "keep") return void(rs.water = WaterMode::Kept);
+  if (spec == "remove") return void(rs.water = WaterMode::Removed);
+  rs.water = WaterMode::Swapped;
+  if (gltf) return void(rs.swapMesh = spec);
   std::string kind = spec.substr(0, spec.find(':'));
-  if (kind != "flat" && kind != "sine")
-    fail("--water must be keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction] or a .gltf/.glb mesh (got '" +
-         spec + "')");
-  return builtinSurfaceWaves(parseBuiltinSurface(spec, float(defaultHeight)));
+  if (kind != "flat" && kind != "sine" && kind != "triangle")
+    fail("--water must be keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction], triangle[:...] or a .gltf/.glb mesh "
+         "(got '" + spec + "')");
+  rs.swap = parseBuiltinSurface(spec, level);
 }
 
 // `--water` names a glTF mesh when it ends in .gltf or .glb (any case).
@@ -55,6 +63,49 @@ bool isGltfPath(const std::string& spec) {
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   auto endsWith = [&](const std::string& ext) { return lower.size() > ext.size() && lower.compare(lower.size() - ext.size(), ext.size(), ext) == 0; };
   return endsWith(".gltf") || endsWith(".glb");
+}
+
+// Every view again, `benchmark` times, after the renders built the pipelines and baked the
+// water: the frame time of a headless render (the frame and its pixels' copy to the host, the
+// host's image) on this device, where it goes, its submissions, and the Gaussian trace alone.
+void printRenderBenchmark(Context& ctx, FrameRenderer& renderer, ViewScene& scene, const RenderSettings& rs,
+                          const std::vector<std::pair<std::string, Camera>>& cameras, long benchmark, const std::string& water,
+                          const std::atomic<bool>& interrupted) {
+  std::vector<std::pair<std::string, double>> stages;
+  auto t0 = std::chrono::steady_clock::now();
+  for (long k = 0; k < benchmark; k++) {
+    if (interrupted.load()) fail("render: interrupted during --benchmark (the images are complete)");
+    for (const auto& [name, cam] : cameras) renderFrameImage(renderer, scene, cam, rs, &stages);
+  }
+  const double frames = double(benchmark * long(cameras.size()));
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / frames;
+  const char* path = renderer.path == FrameRenderer::Path::Straight ? "none" : renderer.path == FrameRenderer::Path::Mesh ? "baked" : "exact";
+  std::printf("benchmark: %s, %dx%d, water %s (%s), %zu views x %ld: %.2f ms per frame (%.1f FPS), %s trace, Gaussian trace %s\n",
+              ctx.caps.name.c_str(), cameras.front().second.width, cameras.front().second.height, water.c_str(), path, cameras.size(), benchmark,
+              ms, 1000.0 / ms, traceBackendName(ctx.trace), rs.tiledTrace ? "tiles" : "bvh");
+  std::string breakdown;
+  for (const auto& [stage, total] : stages) {
+    char part[96];
+    std::snprintf(part, sizeof part, "%s%s %.2f", breakdown.empty() ? "" : ", ", stage.c_str(), total / frames);
+    breakdown += part;
+  }
+  // One frame more, its submissions counted (a profiler's own readbacks kept out of the times above).
+  GpuProfiler counter;
+  attachProfiler(ctx, counter);
+  renderFrameImage(renderer, scene, cameras.front().second, rs);
+  detachProfiler(ctx);
+  std::printf("benchmark: per frame (ms): %s (the device's timestamps, the host's image); %llu submission%s a frame\n", breakdown.c_str(),
+              static_cast<unsigned long long>(counter.submits), counter.submits == 1 ? "" : "s");
+  const WaterMode shown = effectiveWater(scene, rs);
+  if (shown != WaterMode::Swapped && scene.model) {
+    // The same cameras' rays through the Gaussians alone (the exact water's, a BVH per ray): how
+    // much of a frame is not the trace.
+    const WaterView view = shown == WaterMode::Kept ? WaterView::Keep : WaterView::Remove;
+    double alone = 0;
+    for (const auto& [name, cam] : cameras) alone += gaussianTraceMs(*scene.model, cam, view, int(benchmark));
+    alone /= double(cameras.size());
+    std::printf("benchmark: the Gaussian trace alone %.2f ms per frame; the frame %.2fx it\n", alone, ms / alone);
+  }
 }
 
 int runRender(const cli::Args& args) {
@@ -69,31 +120,30 @@ int runRender(const cli::Args& args) {
   cli::checkNewOrEmptyFolder(out, "-o", "render into a new folder, or remove it first");
   std::string water = args.get("water", "keep");
   const long benchmark = args.getIntIn("benchmark", 0, 0, 100000);
+  const std::string trace = args.get("gaussian-trace", "tiles");
+  if (trace != "tiles" && trace != "bvh") fail("--gaussian-trace must be tiles or bvh (got '" + trace + "')");
   TrainConfig config = readRunConfig(run);
-  WaterView mode = water == "keep" ? WaterView::Keep : water == "remove" ? WaterView::Remove : WaterView::Swap;
-  std::optional<AnalyticWaves> waves;
-  std::optional<SurfaceMesh> mesh;  // read (and checked) before anything is opened or written
-  if (mode == WaterView::Swap && isGltfPath(water)) {
-    mesh = readSurfaceGltf(water);
-    meshUnitNormals(*mesh);  // validates
-  } else if (mode == WaterView::Swap) {
-    waves = builtinWaves(water, config.waterHeight);
+  RenderSettings asked;
+  const bool gltf = water != "keep" && water != "remove" && isGltfPath(water);
+  if (gltf) {
+    SurfaceMesh mesh = readSurfaceGltf(water);  // read (and checked) before anything is opened or written
+    meshUnitNormals(mesh);
   }
+  setWater(water, float(config.waterHeight), gltf, asked);
   std::vector<std::pair<std::string, Camera>> cameras;
-  bool single = args.has("camera");
   std::string split = args.get("split", "test");
   StagedFolder folder(out, "-o");  // the images appear in `out` all at once, or not at all
   auto ctx = cli::openContext(args);
-  const Dataset dataset = loadRunDataset(config);
-  auto model = openModel(*ctx, run, dataset);
-  if (single) {
+  // K changes only the speed, not the image: at least the viewer's default (as refrax-view opens a run).
+  auto scene = openRunScene(*ctx, run, std::max(kDefaultKBuffer, config.kBuffer));
+  if (args.has("camera")) {
     auto v = parseList(args.get("camera"), 6, "camera");
     long w = args.getInt("width", 256), h = args.getInt("height", 256);
     if (w <= 0 || h <= 0 || w > 8192 || h > 8192) fail("--width/--height must be between 1 and 8192");
     double fov = args.getDouble("fov", 45.0);
     cameras.push_back({"camera.png", lookAtCamera({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, int(w), int(h), fov * M_PI / 180)});
   } else {
-    const auto& views = dataset.split(split);
+    const auto& views = scene->dataset.split(split);
     for (size_t i = 0; i < views.size(); i++) {
       char name[48];
       std::snprintf(name, sizeof name, "%s_%03zu.png", split.c_str(), i);
@@ -102,54 +152,21 @@ int runRender(const cli::Args& args) {
       cameras.push_back({name, c});
     }
   }
-  std::optional<AnalyticHeightField> swap;
-  if (waves) swap.emplace(createAnalyticHeightField(*ctx, *waves));
-  std::optional<MeshSurface> swapMesh;
-  if (mesh) swapMesh.emplace(createMeshSurface(*ctx, *mesh));
-  const SwapSurface swapSurface{swap ? &*swap : nullptr, swapMesh ? &*swapMesh : nullptr};
+  // The run's settings (as the viewer opens it), then the water and trace asked for.
+  RenderSettings rs = sceneRenderSettings(*scene);
+  rs.water = asked.water;
+  rs.swapMesh = asked.swapMesh;
+  if (rs.water == WaterMode::Swapped && !gltf) rs.swap = asked.swap;
+  rs.exactWater = args.has("exact-water");
+  rs.tiledTrace = trace == "tiles";
+  FrameRenderer renderer = createFrameRenderer(*ctx);
   for (const auto& [name, cam] : cameras) {
     if (interrupted.load()) fail("render: interrupted; nothing was written to " + out);
-    RenderedView r = renderView(*model, cam, mode, swapSurface, RenderOptions{false, nullptr});  // the image only
-    writePng((fs::path(folder.path) / name).string(), r.image);
+    writePng((fs::path(folder.path) / name).string(), renderFrameImage(renderer, *scene, cam, rs));
   }
   folder.commit();
   for (const auto& [name, cam] : cameras) std::printf("wrote %s\n", (fs::path(out) / name).string().c_str());
-  if (benchmark > 0) {
-    // Every view again, `benchmark` times, after the renders above built the pipelines: the
-    // frame time of a headless render (camera rays, water, Gaussians, the results' copy to the
-    // host and the host's image) on this device.
-    std::vector<std::pair<std::string, double>> stages;
-    auto t0 = std::chrono::steady_clock::now();
-    for (long k = 0; k < benchmark; k++) {
-      if (interrupted.load()) fail("render: interrupted during --benchmark (the images in " + out + " are complete)");
-      for (const auto& [name, cam] : cameras) renderView(*model, cam, mode, swapSurface, RenderOptions{false, &stages});
-    }
-    const double frames = double(benchmark * cameras.size());
-    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / frames;
-    std::printf("benchmark: %s, %dx%d, water %s, %zu views x %ld: %.2f ms per frame (%.1f FPS), %s trace\n", ctx->caps.name.c_str(),
-                cameras.front().second.width, cameras.front().second.height, water.c_str(), cameras.size(), benchmark, ms, 1000.0 / ms,
-                traceBackendName(ctx->trace));
-    std::string breakdown;
-    for (const auto& [stage, total] : stages) {
-      char part[96];
-      std::snprintf(part, sizeof part, "%s%s %.2f", breakdown.empty() ? "" : ", ", stage.c_str(), total / frames);
-      breakdown += part;
-    }
-    // One frame more, its submissions counted (a profiler's own readbacks kept out of the times above).
-    GpuProfiler counter;
-    attachProfiler(*ctx, counter);
-    renderView(*model, cameras.front().second, mode, swapSurface, RenderOptions{false, nullptr});
-    detachProfiler(*ctx);
-    std::printf("benchmark: per frame (ms): %s (the device's timestamps, the host's image); %llu submission%s a frame\n", breakdown.c_str(),
-                static_cast<unsigned long long>(counter.submits), counter.submits == 1 ? "" : "s");
-    if (mode != WaterView::Swap) {
-      // The same rays through the Gaussians alone: how much of a frame is not the trace.
-      double trace = 0;
-      for (const auto& [name, cam] : cameras) trace += gaussianTraceMs(*model, cam, mode, int(benchmark));
-      trace /= double(cameras.size());
-      std::printf("benchmark: the Gaussian trace alone %.2f ms per frame; the frame %.2fx it\n", trace, ms / trace);
-    }
-  }
+  if (benchmark > 0) printRenderBenchmark(*ctx, renderer, *scene, rs, cameras, benchmark, water, interrupted);
   return 0;
 }
 
@@ -162,9 +179,14 @@ std::vector<cli::Option> renderOptions() {
                                 {"height", "PIXELS", "image height with --camera", "256"},
                                 {"fov", "DEG", "vertical field of view with --camera", "45"},
                                 {"water", "MODE",
-                                 "keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction], or PATH.gltf / PATH.glb: "
-                                 "any triangle mesh (glTF axes, +Y up) refracting the camera rays in the water's place",
+                                 "keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction], triangle[:...], or PATH.gltf / "
+                                 "PATH.glb: any triangle mesh (glTF axes, +Y up) refracting the camera rays in the water's place",
                                  "keep"},
+                                {"exact-water", "",
+                                 "trace the trainer's subdivided surface (as training and refrax eval do) instead of the water baked once on "
+                                 "its finest lattice (the viewer's frame; at most a few levels of 8 bits apart)",
+                                 ""},
+                                {"gaussian-trace", "KIND", "tiles (candidate lists per 8x8 tile, as the viewer) or bvh (a traversal per ray): the same image", "tiles"},
                                 {"benchmark", "N", "after writing the images, render every view N more times and print the mean frame time", "0"}};
   for (auto& d : cli::deviceOptions()) o.push_back(d);
   return o;

@@ -6,9 +6,9 @@
 #include <utility>
 #include <vector>
 
-#include "viewer/frame_renderer.h"
+#include "engine/frame/frame_renderer.h"
 #include "viewer/panels.h"
-#include "viewer/view_scene.h"
+#include "engine/frame/view_scene.h"
 
 namespace refrax {
 

@@ -7,7 +7,7 @@
 
 #include "engine/view/fly_camera.h"
 #include "viewer/panels.h"
-#include "viewer/view_scene.h"
+#include "engine/frame/view_scene.h"
 
 struct GLFWwindow;
 

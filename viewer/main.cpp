@@ -30,7 +30,7 @@
 #include "engine/vk/vk_context.h"
 #include "engine/vk/vk_timer.h"
 #include "viewer/benchmark.h"
-#include "viewer/frame_renderer.h"
+#include "engine/frame/frame_renderer.h"
 #include "viewer/imgui_layer.h"
 #include "viewer/input.h"
 #include "viewer/panels.h"
@@ -129,15 +129,8 @@ std::unique_ptr<ViewScene> openScene(Context& ctx, const ViewerOptions& o, Viewe
 void initialRenderSettings(RenderSettings& rs, const ViewerOptions& o, const ViewScene* scene) {
   rs.swap = BuiltinSurface{"flat", 0.0f, 0.02f, 0.5f, 0.0f};
   if (scene) {
-    rs.swap.height = scene->waterHeight;
-    rs.ior = o.ior.value_or(scene->ior);
-    rs.shDegree = scene->model ? shDegreeAt(scene->model->config, std::max(1, scene->model->step)) : scene->maxShDegree;
-    if (scene->model) {
-      rs.gridCells = scene->model->config.gridCells;
-      rs.subdivisionLevels = scene->model->config.subdivisionLevels;
-      // The baked mesh's vertices on the finest lattice the trainer's subdivision evaluates H at.
-      rs.bakeCells = scene->model->config.gridCells << scene->model->config.subdivisionLevels;
-    }
+    rs = sceneRenderSettings(*scene);  // as `refrax render` opens it
+    if (o.ior) rs.ior = *o.ior;
     applyWaterOption(o.water.empty() ? (scene->model ? "keep" : "remove") : o.water, scene->waterHeight, rs);
   }
   if (o.levels) rs.subdivisionLevels = *o.levels;

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "engine/view/fly_camera.h"
-#include "viewer/frame_renderer.h"
-#include "viewer/view_scene.h"
+#include "engine/frame/frame_renderer.h"
+#include "engine/frame/view_scene.h"
 
 namespace refrax {
 

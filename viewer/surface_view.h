@@ -7,8 +7,8 @@
 
 #include "engine/surface/builtin_surfaces.h"
 #include "engine/surface/surface_preview.h"
-#include "viewer/frame_renderer.h"
-#include "viewer/view_scene.h"
+#include "engine/frame/frame_renderer.h"
+#include "engine/frame/view_scene.h"
 
 namespace refrax {
 

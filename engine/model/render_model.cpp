@@ -64,13 +64,6 @@ namespace {
 
 using StageTimes = std::vector<std::pair<std::string, double>>;
 
-// Adds `ms` to the stage's total, a new stage last.
-void addStageMs(StageTimes& stages, const std::string& stage, double ms) {
-  for (auto& [name, total] : stages)
-    if (name == stage) return void(total += ms);
-  stages.push_back({stage, ms});
-}
-
 // Adds the wall time since the last call to `stage` (when timing).
 struct StageClock {
   StageTimes* stages;

@@ -45,4 +45,10 @@ std::vector<std::pair<std::string, double>> readTimer(GpuTimer& timer) {
   return out;
 }
 
+void addStageMs(std::vector<std::pair<std::string, double>>& stages, const std::string& stage, double ms) {
+  for (auto& [name, total] : stages)
+    if (name == stage) return void(total += ms);
+  stages.push_back({stage, ms});
+}
+
 }  // namespace refrax

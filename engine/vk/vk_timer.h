@@ -28,5 +28,7 @@ void cmdTimerStart(VkCommandBuffer cb, GpuTimer& timer);                       /
 void cmdTimerStamp(VkCommandBuffer cb, GpuTimer& timer, const std::string& stage);  // stage ended here
 // After the submission has completed: (stage, ms) for every stamped stage.
 std::vector<std::pair<std::string, double>> readTimer(GpuTimer& timer);
+// Adds `ms` to the stage's total in `stages`, a new stage last (a breakdown summed over frames).
+void addStageMs(std::vector<std::pair<std::string, double>>& stages, const std::string& stage, double ms);
 
 }  // namespace refrax

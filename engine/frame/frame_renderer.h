@@ -1,7 +1,8 @@
 #pragma once
-// One viewer frame of the Gaussians: camera rays -> (water kept or swapped: refraction at the
-// surface) -> Gaussian forward trace (tiled by default) -> RGBA8 pixels (colour or hit heat map), the same stages
-// and inputs as `refrax render` (engine/model/render_model.cpp), so a screenshot equals its PNG.
+// One frame of the Gaussians, the viewer's and `refrax render`'s: camera rays -> (water kept or
+// swapped: refraction at the surface) -> Gaussian forward trace (tiled by default) -> RGBA8
+// pixels (colour or hit heat map). refrax-view presents the pixels; renderFrameImage reads them
+// back for a PNG, so a screenshot equals `refrax render`'s image.
 //
 // Two ways through the water:
 //  - baked (the default, the fast path): the water as a triangle mesh (engine/surface/mesh_surface.h):
@@ -9,8 +10,8 @@
 //    domain (the paper's surface precomputed at render resolution), a built-in surface on the
 //    same grid, or a glTF mesh; one ray query per ray, recorded in the frame's command buffer
 //    with everything else (no host round trip);
-//  - exact: the trainer's subdivided proxy surface (traceSurface, as training and `refrax
-//    render` trace it), which submits and reads back once per subdivision level, so
+//  - exact: the trainer's subdivided proxy surface (traceSurface, as training, `refrax eval` and
+//    renderView trace it), which submits and reads back once per subdivision level, so
 //    prepareFrame runs the rays and the surface before the frame's command buffer.
 // A triangle wave or a glTF mesh has no height field to subdivide: it is always a mesh.
 #include <optional>
@@ -24,10 +25,11 @@
 #include "engine/camera/camera_rays.h"
 #include "engine/surface/mesh_surface.h"
 #include "engine/gaussian/tiled_trace.h"
+#include "engine/io/image_io.h"
 #include "engine/view/view_compose.h"
 #include "engine/vk/vk_timer.h"
 #include "engine/surface/water_surface.h"
-#include "viewer/view_scene.h"
+#include "engine/frame/view_scene.h"
 
 namespace refrax {
 
@@ -60,6 +62,7 @@ struct FrameRenderer {
   ComputePipeline compose;
   uint32_t capacity = 0;
   Buffer rays, refracted, records, flags, results, pixels;
+  Buffer readback;  // the pixels where the host reads them (renderFrameImage), grown as needed
   std::optional<TileCandidates> tiles;  // sized for the last frame's image (tiled trace)
 
   enum class Path { Straight, Subdivided, Mesh } path = Path::Straight;  // this frame's way through the water
@@ -86,5 +89,17 @@ void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, cons
 // trace, the compose into r.pixels), stamping `timer` after each stage.
 void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& settings,
                     GpuTimer& timer);
+
+// The settings a run or PLY opens with: its IOR, lattice (the baked mesh on the trainer's finest
+// lattice) and SH degree at its step, its water kept where it has one (else removed).
+RenderSettings sceneRenderSettings(const ViewScene& scene);
+
+// One image, as the viewer draws it: prepareFrame, then the frame and the pixels' copy to the
+// host in one command buffer (the baked water's frame is that one submission). `stageMs`, when
+// given, gets each stage's milliseconds added: the device's timestamps ("rays", "water",
+// "cull", "gaussians", "compose", "image readback"; the exact water's "surface"), and the host's
+// "image (host)".
+Image renderFrameImage(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& settings,
+                       std::vector<std::pair<std::string, double>>* stageMs = nullptr);
 
 }  // namespace refrax

@@ -1,4 +1,4 @@
-#include "viewer/view_scene.h"
+#include "engine/frame/view_scene.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,10 +1,13 @@
-#include "viewer/frame_renderer.h"
+#include "engine/frame/frame_renderer.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "engine/surface/builtin_surface_spec.h"
 #include "engine/base/error.h"
 #include "engine/surface/grid_mesh.h"
+#include "engine/surface/surface_preview.h"
 #include "engine/surface/gltf_surface.h"
 #include "engine/vk/vk_commands.h"
 #include "engine/vk/vk_context.h"
@@ -172,6 +175,48 @@ void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, cons
   cmdTimerStamp(cb, timer, "gaussians");
   cmdComposeView(cb, r.compose, r.results, r.pixels, n, s.compose);
   cmdTimerStamp(cb, timer, "compose");
+}
+
+RenderSettings sceneRenderSettings(const ViewScene& scene) {
+  RenderSettings rs;
+  rs.swap = BuiltinSurface{"flat", scene.waterHeight, 0.02f, 0.5f, 0.0f};
+  rs.ior = scene.ior;
+  rs.shDegree = scene.model ? shDegreeAt(scene.model->config, std::max(1, scene.model->step)) : scene.maxShDegree;
+  if (scene.model) {
+    rs.gridCells = scene.model->config.gridCells;
+    rs.subdivisionLevels = scene.model->config.subdivisionLevels;
+    // The baked mesh's vertices on the finest lattice the trainer's subdivision evaluates H at.
+    rs.bakeCells = scene.model->config.gridCells << scene.model->config.subdivisionLevels;
+  }
+  rs.water = learnedWater(scene) ? WaterMode::Kept : WaterMode::Removed;
+  return rs;
+}
+
+Image renderFrameImage(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s,
+                       std::vector<std::pair<std::string, double>>* stageMs) {
+  Context& ctx = *r.ctx;
+  prepareFrame(r, scene, camera, s);
+  const uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  const VkDeviceSize bytes = VkDeviceSize(n) * 4;
+  if (!r.readback.buffer || r.readback.size < bytes) r.readback = createBuffer(ctx, bytes, 0, MemoryUse::Readback);
+  GpuTimer timer;
+  if (stageMs) createTimer(ctx, timer, 16);
+  submitAndWait(ctx, [&](VkCommandBuffer cb) {
+    cmdTimerStart(cb, timer);
+    cmdRenderFrame(cb, r, scene, camera, s, timer);
+    cmdBarrier(cb);
+    cmdCopyToHost(cb, r.pixels, 0, r.readback, 0, bytes);
+    cmdTimerStamp(cb, timer, "image readback");
+  });
+  const auto hostStart = std::chrono::steady_clock::now();
+  const uint32_t* pixels = static_cast<const uint32_t*>(r.readback.mapped);
+  Image image = rgba8ToImage(std::vector<uint32_t>(pixels, pixels + n), uint32_t(camera.width), uint32_t(camera.height));
+  if (stageMs) {
+    for (const auto& [stage, ms] : r.surfaceMs) addStageMs(*stageMs, stage, ms);
+    for (const auto& [stage, ms] : readTimer(timer)) addStageMs(*stageMs, stage, ms);
+    addStageMs(*stageMs, "image (host)", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - hostStart).count());
+  }
+  return image;
 }
 
 }  // namespace refrax
