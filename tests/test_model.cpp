@@ -72,11 +72,11 @@ void checkModelMatchesSession(Context& ctx, int steps, Change change) {
     RenderedView fromModel = renderView(*model, camera, water), fromSession = renderView(session->model, camera, water);
     CHECK(largestDifference(fromModel.image.pixels, fromSession.image.pixels) <= 1e-5);  // a wrong water: 0.02
     CHECK(fromModel.missed == fromSession.missed);
-    // An image alone (refrax render) is one submission where the water's trace is one, the
-    // same image and misses as the stages' path (issue 48).
+    // An image alone (an evaluation's views that only compare images) is one submission where
+    // the water's trace is one, the same image and misses as the stages' path (issue 48).
     GpuProfiler counter;
     attachProfiler(ctx, counter);
-    RenderedView alone = renderView(*model, camera, water, SwapSurface{}, RenderOptions{false, nullptr});
+    RenderedView alone = renderView(*model, camera, water, SwapSurface{}, kImageOnly);
     detachProfiler(ctx);
     CHECK(alone.image.pixels == fromModel.image.pixels);
     CHECK(alone.missed == fromModel.missed);

@@ -55,8 +55,8 @@ TEST_CASE("train: --refit counts the Gaussians' schedule from its start, and is 
   c.maxShDegree = 3;
   CHECK(totalSteps(c) == 100);
   CHECK(shDegreeAt(c, 101) == 3);
-  c.schedule.refitSteps = 50;
-  CHECK(totalSteps(c) == 150);
+  c.schedule.refitSteps = 90;
+  CHECK(totalSteps(c) == 190);
   CHECK(gaussianScheduleStep(c, 100) == 100);
   CHECK(gaussianScheduleStep(c, 101) == 1);
   CHECK(refitStartsAt(c, 101));
@@ -64,10 +64,17 @@ TEST_CASE("train: --refit counts the Gaussians' schedule from its start, and is 
   CHECK(shDegreeAt(c, 100) == 3);
   CHECK(shDegreeAt(c, 101) == 0);  // the refit's first step sees degree 0 again
   CHECK(shDegreeAt(c, 121) == 2);
-  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").schedule.refitSteps == 50);
+  CHECK(trainConfigFromJson(trainConfigToJson(c), "test").schedule.refitSteps == 90);
   nlohmann::json older = trainConfigToJson(c);
   older["schedule"].erase("refit_steps");  // a run written before the option has no refit
   CHECK(trainConfigFromJson(older, "test").schedule.refitSteps == 0);
+  // The refit must outlast the Gaussians' schedule sized for --steps (densification until step
+  // 80 of 100 here), or the run would end on a densification or a density reset.
+  c.densify = true;
+  c.schedule.refitSteps = 50;
+  CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("at least 81 steps"), Error);
+  c.schedule.refitSteps = 81;
+  CHECK_NOTHROW(validateTrainConfig(c));
   c.gaussiansFixed = true;
   CHECK_THROWS_WITH_AS(validateTrainConfig(c), doctest::Contains("--refit"), Error);
   c.gaussiansFixed = false;
@@ -134,9 +141,12 @@ TEST_CASE("train: refrax train --refit evaluates the run's own Gaussians at --st
   CHECK(metrics["step"] == 40);
   // The water held: the evaluation at step 20 and the run's end read the same surface error.
   CHECK(evaluations[0]["surface_rmse"].get<double>() == doctest::Approx(metrics["surface_rmse"].get<double>()).epsilon(1e-6));
-  test::CliResult bad = test::runCli("train " + data + " -o " + (dir / "bad") + " --steps 4 --refit -3 --gaussians 100");
-  test::checkOneError(bad, "--refit");
-  CHECK_FALSE(fs::exists(dir / "bad"));
+  for (const std::string& refused : {std::string(" --steps 4 --refit -3"), std::string(" --steps 20 --refit 10"), std::string(" --time-limit 5 --refit 20")}) {
+    test::CliResult bad = test::runCli("train " + data + " -o " + (dir / "bad") + refused + " --gaussians 100");
+    INFO(refused);
+    test::checkOneError(bad, "--refit");
+    CHECK_FALSE(fs::exists(dir / "bad"));
+  }
 }
 
 }  // namespace refrax

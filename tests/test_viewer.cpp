@@ -175,7 +175,7 @@ TEST_CASE("refrax-view's baked water and mesh swaps match refrax render") {
   REQUIRE(alone != std::string::npos);
   const std::string ratioText = bakedRender.output.substr(bakedRender.output.find("the frame ", alone) + 10);
   const double ratio = std::stod(ratioText);
-  CHECK(ratio > 0.02);  // a frame holds a trace (the tiled one: measured 0.23x the BVH's alone here)
+  CHECK(ratio > 0.5);  // a frame holds its trace (timing noise aside)
   CHECK(ratio < 50);
   // --exact-water: the trainer's subdivided surface, its trace before the frame's submission.
   const test::CliResult exactRender = test::runCli("render " + run + " -o " + (dir / "exact") + " --split test --exact-water --benchmark 1");

@@ -74,7 +74,7 @@ void printRenderBenchmark(Context& ctx, FrameRenderer& renderer, ViewScene& scen
   std::vector<std::pair<std::string, double>> stages;
   auto t0 = std::chrono::steady_clock::now();
   for (long k = 0; k < benchmark; k++) {
-    if (interrupted.load()) fail("render: interrupted during --benchmark (the images are complete)");
+    if (interrupted.load()) fail("render: interrupted during --benchmark (the images in the output folder are complete)");
     for (const auto& [name, cam] : cameras) renderFrameImage(renderer, scene, cam, rs, &stages);
   }
   const double frames = double(benchmark * long(cameras.size()));
@@ -96,16 +96,11 @@ void printRenderBenchmark(Context& ctx, FrameRenderer& renderer, ViewScene& scen
   detachProfiler(ctx);
   std::printf("benchmark: per frame (ms): %s (the device's timestamps, the host's image); %llu submission%s a frame\n", breakdown.c_str(),
               static_cast<unsigned long long>(counter.submits), counter.submits == 1 ? "" : "s");
-  const WaterMode shown = effectiveWater(scene, rs);
-  if (shown != WaterMode::Swapped && scene.model) {
-    // The same cameras' rays through the Gaussians alone (the exact water's, a BVH per ray): how
-    // much of a frame is not the trace.
-    const WaterView view = shown == WaterMode::Kept ? WaterView::Keep : WaterView::Remove;
-    double alone = 0;
-    for (const auto& [name, cam] : cameras) alone += gaussianTraceMs(*scene.model, cam, view, int(benchmark));
-    alone /= double(cameras.size());
-    std::printf("benchmark: the Gaussian trace alone %.2f ms per frame; the frame %.2fx it\n", alone, ms / alone);
-  }
+  // The same rays through the frame's Gaussian stage alone: how much of a frame is not the trace.
+  double alone = 0;
+  for (const auto& [name, cam] : cameras) alone += frameTraceMs(renderer, scene, cam, rs, int(benchmark));
+  alone /= double(cameras.size());
+  std::printf("benchmark: the Gaussian trace alone %.2f ms per frame; the frame %.2fx it\n", alone, ms / alone);
 }
 
 int runRender(const cli::Args& args) {

@@ -158,7 +158,8 @@ int runTrain(const cli::Args& args) {
       fail(std::string(e.what()) + "; " + older + " is intact: remove " + ckpt + " to resume from it");
     }
     // The refit starts after the run's steps: moving them would move it under a resumed run.
-    if (stored.schedule.refitSteps > 0 && args.has("steps")) fail("--steps cannot change on --resume of a run with --refit (" + run + ")");
+    if (stored.schedule.refitSteps > 0 && args.has("steps") && args.getInt("steps", 0) != stored.steps)
+      fail("--steps cannot change on --resume of a run with --refit (" + run + ")");
     for (const TrainOption& o : trainOptionTable())
       if (o.resumable && args.has(o.flag)) o.set(stored, o.parse(args.get(o.flag), "--" + o.flag), "--" + o.flag);
     if (int reached = checkpointStep(ckpt); totalSteps(stored) < reached)
@@ -191,6 +192,9 @@ int runTrain(const cli::Args& args) {
   std::string recipe = applyRecipeFor(config, args, dataset, ctx->caps);
   resolveSceneConfig(config, dataset);
   std::string probed;
+  // The probe sizes the water's steps to the time: a refit would run past it.
+  if (progress.timeLimitSeconds > 0 && !args.has("steps") && config.recipe == Recipe::Method && config.schedule.refitSteps > 0)
+    fail("--refit needs --steps with --time-limit (the time limit sizes the run's steps, and the refit's would run past it)");
   if (progress.timeLimitSeconds > 0 && !args.has("steps") && config.recipe == Recipe::Method) {
     // the steps that fit the time, and the schedule sized to them (step_probe.h)
     const StepProbe probe = probeStepsForTime(*ctx, config, dataset, progress.timeLimitSeconds);

@@ -120,7 +120,12 @@ std::unique_ptr<Context> openViewerContext(const ViewerOptions& o) {
 }
 
 std::unique_ptr<ViewScene> openScene(Context& ctx, const ViewerOptions& o, ViewerInputs& in, uint32_t K) {
-  if (!o.runDir.empty()) return openRunScene(ctx, o.runDir, K);
+  if (!o.runDir.empty()) {
+    auto scene = openRunScene(ctx, o.runDir, K);
+    std::printf("refrax-view: loaded step %d (%s)\n", scene->model->step, scene->watch.taken.c_str());
+    std::fflush(stdout);
+    return scene;
+  }
   if (!o.ply.empty()) return openPlyScene(ctx, o.ply, std::move(*in.plyGaussians), K, o.domain, o.waterHeight, o.ior.value_or(kPlyIor));
   return nullptr;
 }

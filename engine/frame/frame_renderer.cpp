@@ -145,18 +145,11 @@ void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, cons
   if (!timings.empty()) r.surfaceMs.push_back({"surface", total});
 }
 
-void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s,
-                    GpuTimer& timer) {
-  uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
-  if (n > r.capacity) fail("cmdRenderFrame before prepareFrame for this size");
-  if (r.path != FrameRenderer::Path::Subdivided) {
-    cmdCameraRays(cb, r.rayPipelines, camera, r.rays, 0.0f, 1e6f);
-    cmdTimerStamp(cb, timer, "rays");
-  }
-  if (r.path == FrameRenderer::Path::Mesh) {
-    cmdRefractThroughMesh(cb, *r.mesh, r.rays, n, s.ior, r.refracted, r.flags);
-    cmdTimerStamp(cb, timer, "water");
-  }
+namespace {
+
+// The frame's Gaussian stage on the rays the water left (tiles culled, then traced; or a BVH
+// traversal per ray) into r.results.
+void cmdFrameGaussians(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, uint32_t n, const RenderSettings& s, GpuTimer& timer) {
   TraceOptions opt;
   for (int ch = 0; ch < 3; ch++) opt.background[ch] = scene.background[ch];
   opt.shDegree = std::min(s.shDegree, 3u);
@@ -173,6 +166,23 @@ void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, cons
     cmdTraceForward(cb, scene.tracer, sceneProxies(scene), sceneGaussians(scene), rays, r.results, n, opt);
   }
   cmdTimerStamp(cb, timer, "gaussians");
+}
+
+}  // namespace
+
+void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s,
+                    GpuTimer& timer) {
+  uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  if (n > r.capacity) fail("cmdRenderFrame before prepareFrame for this size");
+  if (r.path != FrameRenderer::Path::Subdivided) {
+    cmdCameraRays(cb, r.rayPipelines, camera, r.rays, 0.0f, 1e6f);
+    cmdTimerStamp(cb, timer, "rays");
+  }
+  if (r.path == FrameRenderer::Path::Mesh) {
+    cmdRefractThroughMesh(cb, *r.mesh, r.rays, n, s.ior, r.refracted, r.flags);
+    cmdTimerStamp(cb, timer, "water");
+  }
+  cmdFrameGaussians(cb, r, scene, n, s, timer);
   cmdComposeView(cb, r.compose, r.results, r.pixels, n, s.compose);
   cmdTimerStamp(cb, timer, "compose");
 }
@@ -217,6 +227,15 @@ Image renderFrameImage(FrameRenderer& r, ViewScene& scene, const Camera& camera,
     addStageMs(*stageMs, "image (host)", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - hostStart).count());
   }
   return image;
+}
+
+double frameTraceMs(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& s, int repeats) {
+  renderFrameImage(r, scene, camera, s);  // the frame's rays, refracted where there is water, in place
+  const uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
+  GpuTimer unstamped;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 0; k < repeats; k++) submitAndWait(*r.ctx, [&](VkCommandBuffer cb) { cmdFrameGaussians(cb, r, scene, n, s, unstamped); });
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / std::max(1, repeats);
 }
 
 }  // namespace refrax

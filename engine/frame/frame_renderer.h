@@ -102,4 +102,8 @@ RenderSettings sceneRenderSettings(const ViewScene& scene);
 Image renderFrameImage(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& settings,
                        std::vector<std::pair<std::string, double>>* stageMs = nullptr);
 
+// The frame's Gaussian stage alone (its kind, its K) on the rays the frame traces, waited for,
+// mean milliseconds over `repeats`: what `refrax render --benchmark` compares a frame with.
+double frameTraceMs(FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& settings, int repeats);
+
 }  // namespace refrax

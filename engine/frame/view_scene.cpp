@@ -32,8 +32,8 @@ std::unique_ptr<ViewScene> openRunScene(Context& ctx, const std::string& runDir,
   if (!fs::is_directory(runDir)) fail(runDir + " is not a folder (expected a training run or --ply FILE)");
   TrainConfig config = readRunConfig(runDir);
   if (!fs::exists(config.dataset))
-    fail("the dataset of run " + runDir + " (" + config.dataset + ") is missing: the run's checkpoints need it; view " +
-         (fs::path(runDir) / "point_cloud.ply").string() + " with --ply instead");
+    fail("the dataset of run " + runDir + " (" + config.dataset + ") is missing: the run's checkpoints need it; its Gaussians alone are " +
+         (fs::path(runDir) / "point_cloud.ply").string() + " (refrax-view --ply, refrax render-gaussians)");
   auto scene = std::make_unique<ViewScene>();
   scene->ctx = &ctx;
   scene->source = runDir;
@@ -44,8 +44,6 @@ std::unique_ptr<ViewScene> openRunScene(Context& ctx, const std::string& runDir,
   scene->model = openModel(ctx, runDir, scene->dataset);
   scene->generation = 1;
   scene->status = "loaded step " + std::to_string(scene->model->step);
-  std::printf("refrax-view: loaded step %d (%s)\n", scene->model->step, scene->watch.taken.c_str());
-  std::fflush(stdout);
   scene->lastPoll = std::chrono::steady_clock::now();
   const TrainConfig& c = scene->model->config;
   scene->domain = {float(c.domain.xMin), float(c.domain.yMin), float(c.domain.xMax), float(c.domain.yMax)};

@@ -197,18 +197,6 @@ RenderedView renderView(Model& m, const Camera& camera, WaterView water, const S
   return out;
 }
 
-double gaussianTraceMs(Model& m, const Camera& camera, WaterView water, int repeats) {
-  Context& ctx = *m.ctx;
-  const uint32_t n = uint32_t(camera.width) * uint32_t(camera.height);
-  renderView(m, camera, water, SwapSurface{}, RenderOptions{false, nullptr});  // leaves the view's traced rays in place
-  const Buffer& traced = water == WaterView::Keep && m.surface ? m.refracted : m.rays;
-  const TraceOptions opt = viewTraceOptions(m);
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int k = 0; k < repeats; k++)
-    submitAndWait(ctx, [&](VkCommandBuffer cb) { cmdTraceForward(cb, m.tracer, m.proxies, m.device, traced, m.results, n, opt); });
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / std::max(1, repeats);
-}
-
 std::vector<GpuTraceResult> traceModelRays(Model& m, const std::vector<GpuRay>& rays, WaterView water, float depthAtOpacity,
                                            std::vector<uint8_t>* hitWater) {
   if (water == WaterView::Swap) fail("traceModelRays: the learned water kept or removed only");
@@ -274,7 +262,7 @@ nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& r
     views.push_back({{"name", test[i].name}, {"psnr", p}, {"ssim", q}});
     if (!rendersDir.empty()) {
       writePng(indexed(rendersDir, i, ""), r.image);
-      writePng(indexed(rendersDir, i, "_air"), renderView(m, test[i].camera, WaterView::Remove).image);
+      writePng(indexed(rendersDir, i, "_air"), renderView(m, test[i].camera, WaterView::Remove, SwapSurface{}, kImageOnly).image);
     }
   }
   nlohmann::json metrics;
@@ -316,7 +304,7 @@ nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& r
     const auto& between = data.split("between");
     double p = 0, q = 0;
     for (const auto& v : between) {
-      const Image image = renderView(m, v.camera, WaterView::Keep).image;
+      const Image image = renderView(m, v.camera, WaterView::Keep, SwapSurface{}, kImageOnly).image;
       p += psnr(image, v.image, v.mask), q += ssim(image, v.image, v.mask);
     }
     metrics["between_psnr"] = p / double(between.size());
@@ -326,7 +314,7 @@ nlohmann::json evaluateModel(Model& m, const Dataset& data, const std::string& r
   if (data.splits.count("air")) {
     const auto& air = data.split("air");
     double sum = 0;
-    for (const auto& v : air) sum += psnr(renderView(m, v.camera, WaterView::Remove).image, v.image);
+    for (const auto& v : air) sum += psnr(renderView(m, v.camera, WaterView::Remove, SwapSurface{}, kImageOnly).image, v.image);
     metrics["water_removal_psnr"] = sum / double(air.size());
   }
   metrics["gaussians"] = m.gaussians.count();

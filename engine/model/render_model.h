@@ -42,7 +42,7 @@ struct SwapSurface {
 // What a render computes beside the image, and where its time goes.
 struct RenderOptions {
   // The water's hits (RenderedView's surfacePoints and planePoints), for the surface's metrics:
-  // three readbacks of a ray per pixel. An image alone (refrax render) leaves them out, and is
+  // three readbacks of a ray per pixel. An image alone (kImageOnly) leaves them out, and is
   // one submission where the water's trace is one (the camera rays, the water, the Gaussians and
   // the results' copy for the host, no wait between; a mesh swapped in takes the stages' path).
   bool surfacePoints = true;
@@ -53,16 +53,15 @@ struct RenderOptions {
   std::vector<std::pair<std::string, double>>* stageMs = nullptr;
 };
 
+// An image alone (the views an evaluation only compares): no surface points, one submission
+// where the water's trace is one.
+inline const RenderOptions kImageOnly{false, nullptr};
+
 // `swap` is used for WaterView::Swap only.
 RenderedView renderView(Model& model, const Camera& camera, WaterView water, const SwapSurface& swap, const RenderOptions& options = {});
 inline RenderedView renderView(Model& model, const Camera& camera, WaterView water, const AnalyticHeightField* swap = nullptr) {
   return renderView(model, camera, water, SwapSurface{swap, nullptr});
 }
-
-// The Gaussian trace alone (cmdTraceForward, waited for) of `camera`'s rays as `water` leaves
-// them, mean milliseconds over `repeats`: what refrax render --benchmark compares a frame with.
-// Keep and Remove only.
-double gaussianTraceMs(Model& model, const Camera& camera, WaterView water, int repeats);
 
 // Any rays (not a camera's) through the model: refracted at the learned water first (Keep, where
 // the model has water) or straight to the Gaussians (Remove); the scene's background, its SH

@@ -113,6 +113,18 @@ void validateTrainConfig(const TrainConfig& c) {
   need(c.schedule.lrSteps >= 1, "--lr-steps must be at least 1");
   need(c.schedule.refitSteps >= 0, "--refit must be a step count >= 0");
   need(c.schedule.refitSteps == 0 || !c.gaussiansFixed, "--refit draws the Gaussians afresh: not with --gaussians-fixed");
+  if (c.schedule.refitSteps > 0) {
+    // The refit runs the Gaussians' schedule sized for --steps again: it must outlast its last
+    // densification, density reset and SH degree, or the run would end on one of them.
+    const ScheduleSteps& k = c.schedule;
+    int last = 1;
+    if (c.densify) last = std::max(last, k.densifyUntil + 1);
+    if (c.densify && k.densityResetInterval > 0) last = std::max(last, k.densityResetUntil);
+    last = std::max(last, int(c.maxShDegree) * k.shDegreeInterval + 1);
+    need(k.refitSteps >= last, "--refit " + std::to_string(k.refitSteps) + " ends before the Gaussians' schedule for --steps " +
+                                   std::to_string(c.steps) + " does (its last densification, density reset or SH degree): at least " +
+                                   std::to_string(last) + " steps");
+  }
   need(c.schedule.surfaceUntil >= 0, "--surface-until must be a step count >= 0");
   need(c.schedule.surfaceUntil == 0 || c.schedule.surfaceUntil > c.schedule.surfaceFreeze,
        "--surface-until must come after --surface-freeze (" + std::to_string(c.schedule.surfaceFreeze) + "), or the surface never learns");

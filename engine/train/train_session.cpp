@@ -302,8 +302,9 @@ std::unique_ptr<TrainSession> createTrainSession(Context& ctx, const TrainConfig
   s->mcmcConfig.maxGaussians = config.maxGaussians;
   validateMcmcConfig(s->mcmcConfig);
   if (s->model.surface && lastWaterStep(*s) <= k.surfaceFreeze)
-    fail("--surface-until " + std::to_string(k.surfaceUntil) + " leaves the surface no step: it learns after --surface-freeze (" +
-         std::to_string(k.surfaceFreeze) + ") once every " + std::to_string(surfaceBatchSteps(*s)) + " steps (--surface-batch)");
+    fail((k.surfaceUntil > 0 ? "--surface-until " + std::to_string(k.surfaceUntil) : "--steps " + std::to_string(config.steps) + " (--refit)") +
+         " leaves the surface no step: it learns after --surface-freeze (" + std::to_string(k.surfaceFreeze) + ") once every " +
+         std::to_string(surfaceBatchSteps(*s)) + " steps (--surface-batch)");
 
   allocateBatchBuffers(*s, s->model.capacity);
   s->buffers.lossPipelines = createLossPipelines(ctx);
