@@ -7,7 +7,9 @@
 #      device (lavapipe maps device memory: its transfers cost no submission) the same run again
 #      with REFRAX_FORCE_STAGING=1, for the submissions a discrete GPU would count;
 #   2. rendering: `refrax render --benchmark` of the test view at 392 x 392 after that
-#      training: the frame, its stages and the Gaussian trace alone for the same rays;
+#      training: the frame (the viewer's: baked water, tiled trace), its stages and its Gaussian
+#      stage alone for the same rays; then the same through the trainer's stages
+#      (--exact-water --gaussian-trace bvh), side by side;
 #   3. the viewer: `refrax-view --frames --benchmark` at 392 x 392, 1280 x 720 and 1920 x 1080
 #      under xvfb-run (skipped without it), the baked water, tiled trace (its defaults).
 # Writes DIR/<device>.txt (the lines quoted) and DIR/<device>.json. Time: a few minutes on a
@@ -69,6 +71,10 @@ fi
 "$REFRAX" render "$work/run" -o "$work/render" --split test --benchmark 5 >"$work/render.log" 2>&1 ||
   { tail -n 5 "$work/render.log" >&2; echo "gpu-speed: render failed" >&2; exit 1; }
 grep '^benchmark' "$work/render.log" | sed 's/^/render: /' | tee -a "$log"
+# The same view through the trainer's stages (the subdivided water, a BVH per ray), side by side.
+"$REFRAX" render "$work/run" -o "$work/render-exact" --split test --exact-water --gaussian-trace bvh --benchmark 5 >"$work/render-exact.log" 2>&1 ||
+  { tail -n 5 "$work/render-exact.log" >&2; echo "gpu-speed: render --exact-water failed" >&2; exit 1; }
+grep '^benchmark' "$work/render-exact.log" | sed 's/^/render --exact-water --gaussian-trace bvh: /' | tee -a "$log"
 
 if command -v xvfb-run >/dev/null && [ -x "$VIEW" ]; then
   for size in 392x392 1280x720 1920x1080; do
