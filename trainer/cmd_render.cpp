@@ -5,14 +5,12 @@
 // subdivided surface instead, as training and `refrax eval` do.
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
 
-#include "engine/surface/builtin_surface_spec.h"
 #include "engine/base/error.h"
 #include "engine/surface/gltf_surface.h"
 #include "engine/io/image_io.h"
@@ -41,28 +39,6 @@ std::vector<double> parseList(const std::string& text, size_t count, const char*
   }
   if (v.size() != count) fail(std::string("--") + option + " expects " + std::to_string(count) + " comma-separated numbers");
   return v;
-}
-
-// keep, remove, a built-in surface (engine/surface/builtin_surface_spec.h) or a glTF mesh, as
-// the frame's settings; the spec is checked here, before anything is opened or written.
-void setWater(const std::string& spec, float level, bool gltf, RenderSettings& rs) {
-  if (spec == "keep") return void(rs.water = WaterMode::Kept);
-  if (spec == "remove") return void(rs.water = WaterMode::Removed);
-  rs.water = WaterMode::Swapped;
-  if (gltf) return void(rs.swapMesh = spec);
-  std::string kind = spec.substr(0, spec.find(':'));
-  if (kind != "flat" && kind != "sine" && kind != "triangle")
-    fail("--water must be keep, remove, flat[:height], sine[:height:amplitude:wavelength:direction], triangle[:...] or a .gltf/.glb mesh "
-         "(got '" + spec + "')");
-  rs.swap = parseBuiltinSurface(spec, level);
-}
-
-// `--water` names a glTF mesh when it ends in .gltf or .glb (any case).
-bool isGltfPath(const std::string& spec) {
-  std::string lower = spec;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  auto endsWith = [&](const std::string& ext) { return lower.size() > ext.size() && lower.compare(lower.size() - ext.size(), ext.size(), ext) == 0; };
-  return endsWith(".gltf") || endsWith(".glb");
 }
 
 // Every view again, `benchmark` times, after the renders built the pipelines and baked the
@@ -118,13 +94,19 @@ int runRender(const cli::Args& args) {
   const std::string trace = args.get("gaussian-trace", "tiles");
   if (trace != "tiles" && trace != "bvh") fail("--gaussian-trace must be tiles or bvh (got '" + trace + "')");
   TrainConfig config = readRunConfig(run);
-  RenderSettings asked;
-  const bool gltf = water != "keep" && water != "remove" && isGltfPath(water);
-  if (gltf) {
-    SurfaceMesh mesh = readSurfaceGltf(water);  // read (and checked) before anything is opened or written
-    meshUnitNormals(mesh);
+  {
+    // The spec checked (and a mesh read) before anything is opened or written.
+    RenderSettings checked;
+    try {
+      applyWaterSpec(water, float(config.waterHeight), checked);
+    } catch (const Error& e) {
+      fail(std::string("--water: ") + e.what() + " (keep, remove, a built-in surface or a .gltf/.glb mesh)");
+    }
+    if (!checked.swapMesh.empty()) {
+      SurfaceMesh mesh = readSurfaceGltf(water);
+      meshUnitNormals(mesh);
+    }
   }
-  setWater(water, float(config.waterHeight), gltf, asked);
   std::vector<std::pair<std::string, Camera>> cameras;
   std::string split = args.get("split", "test");
   StagedFolder folder(out, "-o");  // the images appear in `out` all at once, or not at all
@@ -149,9 +131,7 @@ int runRender(const cli::Args& args) {
   }
   // The run's settings (as the viewer opens it), then the water and trace asked for.
   RenderSettings rs = sceneRenderSettings(*scene);
-  rs.water = asked.water;
-  rs.swapMesh = asked.swapMesh;
-  if (rs.water == WaterMode::Swapped && !gltf) rs.swap = asked.swap;
+  applyWaterSpec(water, float(config.waterHeight), rs);
   rs.exactWater = args.has("exact-water");
   rs.tiledTrace = trace == "tiles";
   FrameRenderer renderer = createFrameRenderer(*ctx);

@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <memory>
 #include <optional>
 
@@ -59,24 +58,6 @@ int findCamera(const ViewScene& scene, const std::string& spec) {
   fail("--view " + spec + ": the dataset has no such camera");
 }
 
-bool isMeshFile(const std::string& path) {
-  auto ends = [&](const char* e) { return path.size() > std::strlen(e) && path.compare(path.size() - std::strlen(e), std::strlen(e), e) == 0; };
-  return ends(".gltf") || ends(".glb");
-}
-
-// --water: keep, remove, a built-in surface or a glTF mesh to swap in.
-void applyWaterOption(const std::string& water, float level, RenderSettings& r) {
-  if (water == "keep") r.water = WaterMode::Kept;
-  else if (water == "remove") r.water = WaterMode::Removed;
-  else if (isMeshFile(water)) {
-    r.water = WaterMode::Swapped;
-    r.swapMesh = water;
-  } else {
-    r.water = WaterMode::Swapped;
-    r.swap = parseBuiltinSurface(water, level);
-  }
-}
-
 // The built-in surface shown with nothing loaded (--surface), before the panel changes it.
 BuiltinSurface fallbackSurface(const ViewerOptions& o) { return BuiltinSurface{o.surface, 0.0f, 0.03f, 0.6f, 30.0f}; }
 
@@ -91,7 +72,7 @@ ViewerInputs readInputs(const ViewerOptions& o) {
   // K changes only the speed, not the image: a run trained with a smaller K opens at the default.
   if (!o.runDir.empty()) in.defaultK = std::max(in.defaultK, long(readRunConfig(o.runDir).kBuffer));  // also: a folder that is not a run
   if (!o.ply.empty()) in.plyGaussians = readGaussiansPly(o.ply);
-  if (isMeshFile(o.water)) readSurfaceGltf(o.water);
+  if (isMeshPath(o.water)) readSurfaceGltf(o.water);
   surfaceHeightFunction(fallbackSurface(o));  // an unknown --surface
   return in;
 }
@@ -136,7 +117,7 @@ void initialRenderSettings(RenderSettings& rs, const ViewerOptions& o, const Vie
   if (scene) {
     rs = sceneRenderSettings(*scene);  // as `refrax render` opens it
     if (o.ior) rs.ior = *o.ior;
-    applyWaterOption(o.water.empty() ? (scene->model ? "keep" : "remove") : o.water, scene->waterHeight, rs);
+    applyWaterSpec(o.water.empty() ? (scene->model ? "keep" : "remove") : o.water, scene->waterHeight, rs);
   }
   if (o.levels) rs.subdivisionLevels = *o.levels;
   if (o.shDegree) rs.shDegree = *o.shDegree;

@@ -1,6 +1,7 @@
 #include "engine/frame/frame_renderer.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 
@@ -185,6 +186,25 @@ void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, cons
   cmdFrameGaussians(cb, r, scene, n, s, timer);
   cmdComposeView(cb, r.compose, r.results, r.pixels, n, s.compose);
   cmdTimerStamp(cb, timer, "compose");
+}
+
+bool isMeshPath(const std::string& path) {
+  std::string lower = path;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  auto endsWith = [&](const std::string& ext) { return lower.size() > ext.size() && lower.compare(lower.size() - ext.size(), ext.size(), ext) == 0; };
+  return endsWith(".gltf") || endsWith(".glb");
+}
+
+void applyWaterSpec(const std::string& spec, float level, RenderSettings& rs) {
+  if (spec == "keep") return void(rs.water = WaterMode::Kept);
+  if (spec == "remove") return void(rs.water = WaterMode::Removed);
+  if (isMeshPath(spec)) {
+    rs.swapMesh = spec;
+  } else {
+    rs.swap = parseBuiltinSurface(spec, level);
+    rs.swapMesh.clear();
+  }
+  rs.water = WaterMode::Swapped;
 }
 
 RenderSettings sceneRenderSettings(const ViewScene& scene) {

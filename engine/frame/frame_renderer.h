@@ -90,6 +90,13 @@ void prepareFrame(FrameRenderer& r, ViewScene& scene, const Camera& camera, cons
 void cmdRenderFrame(VkCommandBuffer cb, FrameRenderer& r, ViewScene& scene, const Camera& camera, const RenderSettings& settings,
                     GpuTimer& timer);
 
+// --water as refrax render and refrax-view take it: keep, remove, a built-in surface
+// (flat|sine|triangle[:height:amplitude:wavelength:direction]) or a .gltf/.glb mesh (any case)
+// to swap in; refrax::Error naming the spec for an unknown one. A mesh is read when a frame is
+// prepared (callers read it first to fail before opening anything).
+bool isMeshPath(const std::string& path);
+void applyWaterSpec(const std::string& spec, float level, RenderSettings& settings);
+
 // The settings a run or PLY opens with: its IOR, lattice (the baked mesh on the trainer's finest
 // lattice) and SH degree at its step, its water kept where it has one (else removed).
 RenderSettings sceneRenderSettings(const ViewScene& scene);

@@ -1089,8 +1089,7 @@ bool restartStep(TrainSession& s, int t) {
 // step rather than after the last, so an evaluation or checkpoint at `steps` holds the
 // run's own Gaussians.
 void startRefit(TrainSession& s) {
-  HostStage h(*s.model.ctx, "refit draw");
-  pushWaterGradient(s);
+  HostStage h(*s.model.ctx, "refit draw");  // no water gradient is pending: the water stopped at or before `steps`
   drawGaussians(s);
   s.buffers.gaussianCopies = StepBuffers::Copies::HostNewer;
   syncGaussians(s, true);
