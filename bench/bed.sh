@@ -16,8 +16,9 @@
 #   --append   add the rows to DIR/rows.csv (more seeds or presets in a later sitting, the same
 #              code: run_info.txt records each sitting) and summarise them all
 #   --summary-only  summary.md again from DIR/rows.csv (rows gathered from several folders)
-# Time on this 2-core lavapipe machine at the CPU defaults (4,000 steps of 32 x 32 patches):
-# about 3 minutes a run and a few seconds an export, so 9 presets x 3 models x 1 seed ~ 1.5 h.
+# Time on this 2-core lavapipe machine at the CPU defaults as they were (4,000 steps of 32 x 32
+# patches): about 3 minutes a run and a few seconds an export, so 9 presets x 3 models x 1 seed
+# ~ 1.5 h; the defaults' 8,000 steps (2026-12-06) double it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD

@@ -32,15 +32,15 @@ auto givenKeys(std::set<std::string> keys) {
 TEST_CASE("recipe: the method sizes the run for the device and fills the water's settings") {
   TrainConfig cpu = methodConfig();
   applyRecipe(cpu, givenKeys({}), RecipeDevice{true}, 252, 252);
-  CHECK(cpu.steps == 4000);
+  CHECK(cpu.steps == 8000);
   CHECK(cpu.patch == 32);
   CHECK(cpu.maxShDegree == 0);
   CHECK(cpu.schedule.densityResetInterval == 0);
   CHECK(cpu.initDepth == InitDepth::Sweep);
   CHECK(cpu.surfaceLearningRate == 1e-3);
   CHECK(cpu.surfaceBatch == 0);  // views
-  CHECK(cpu.schedule.surfaceFreeze == 533);
-  CHECK(cpu.schedule.gaussianRestarts == std::vector<int>{1333, 2133});
+  CHECK(cpu.schedule.surfaceFreeze == 1066);
+  CHECK(cpu.schedule.gaussianRestarts == std::vector<int>{2666, 4266});
   CHECK(cpu.mlpCoarseOctaves == 3);
   CHECK(cpu.anchorMeanHeight);
   CHECK(cpu.levelPrior == 10000);
@@ -93,7 +93,7 @@ TEST_CASE("recipe: the comparison models take the Gaussians' settings, not the w
   }
   TrainConfig flat = methodConfig(WaterModel::FlatWater);  // a learned plane: the water's schedule, no height-field terms
   applyRecipe(flat, givenKeys({}), RecipeDevice{true}, 252, 252);
-  CHECK(flat.schedule.gaussianRestarts == std::vector<int>{1333, 2133});
+  CHECK(flat.schedule.gaussianRestarts == std::vector<int>{2666, 4266});
   CHECK(flat.levelPrior == 0);
   CHECK(flat.surfaceSmoothness == 0);
 

@@ -249,7 +249,7 @@ std::vector<TrainOption> makeTable() {
   }
   t.push_back(shown(required(resumable(integer<int>("steps", "steps", "N", "training steps (one training image or patch each)",
                                                       field(&TrainConfig::steps), 1, 10000000))),
-                    "15000 on a GPU, 4000 on a CPU; with --time-limit, what fits it; reference 15000"));
+                    "15000 on a GPU, 8000 on a CPU; with --time-limit, what fits it; reference 15000"));
   t.push_back(required(integer<uint64_t>("seed", "seed", "S", "random seed (initial Gaussians, height field, view order, patches)",
                                          field(&TrainConfig::seed), 0, LLONG_MAX)));
   t.push_back(shown(required(integer<uint32_t>("gaussians", "initial_gaussians", "N", "initial Gaussians, uniform in the box derived under the water",
