@@ -36,6 +36,7 @@ TEST_CASE("recipe: the method sizes the run for the device and fills the water's
   CHECK(cpu.patch == 32);
   CHECK(cpu.maxShDegree == 0);
   CHECK(cpu.schedule.densityResetInterval == 0);
+  CHECK(cpu.schedule.pruneLargeFrom > 100 * cpu.steps);  // no density resets, no large prune (3DGS)
   CHECK(cpu.initDepth == InitDepth::Sweep);
   CHECK(cpu.surfaceLearningRate == 1e-3);
   CHECK(cpu.surfaceBatch == 0);  // views
@@ -77,6 +78,17 @@ TEST_CASE("recipe: a flag given wins, and the schedule follows the steps given")
   shortRun.steps = 1;
   applyRecipe(shortRun, givenKeys({"steps"}), RecipeDevice{true}, 252, 252);
   CHECK(shortRun.schedule.gaussianRestarts.empty());
+
+  // Density resets given bring the large prune back at its reference step; a large prune given
+  // is kept either way.
+  TrainConfig resets = methodConfig();
+  resets.schedule.densityResetInterval = 1000;
+  applyRecipe(resets, givenKeys({"schedule/density_reset_interval"}), RecipeDevice{true}, 252, 252);
+  CHECK(resets.schedule.pruneLargeFrom == -1);  // resolveSchedule's 3000 x steps/15000
+  TrainConfig pruned = methodConfig();
+  pruned.schedule.pruneLargeFrom = 700;
+  applyRecipe(pruned, givenKeys({"schedule/prune_large_from"}), RecipeDevice{true}, 252, 252);
+  CHECK(pruned.schedule.pruneLargeFrom == 700);
 }
 
 TEST_CASE("recipe: the comparison models take the Gaussians' settings, not the water's") {
@@ -87,6 +99,7 @@ TEST_CASE("recipe: the comparison models take the Gaussians' settings, not the w
     CHECK(c.patch == 32);
     CHECK(c.maxShDegree == 0);
     CHECK(c.initDepth == InitDepth::Sweep);
+    CHECK(c.schedule.pruneLargeFrom > 100 * c.steps);
     CHECK(c.schedule.gaussianRestarts.empty());  // restarts free the water from a warped scene: no learned water, none
     CHECK(c.surfaceLearningRate == TrainConfig{}.surfaceLearningRate);
     CHECK(!c.anchorMeanHeight);

@@ -462,7 +462,7 @@ std::vector<TrainOption> makeTable() {
   t.push_back(step("prune-every", "prune_interval", "prune low-density Gaussians every N steps (densify-from..densify-until)",
                    &ScheduleSteps::pruneInterval, "100"));
   t.push_back(step("prune-large-from", "prune_large_from", "also prune Gaussians larger than 10% of the extent from step N",
-                   &ScheduleSteps::pruneLargeFrom, "3000 x steps/15000"));
+                   &ScheduleSteps::pruneLargeFrom, "never without density resets; reference 3000 x steps/15000"));
   t.push_back(step("lr-steps", "lr_steps", "length of the decaying learning-rate schedules", &ScheduleSteps::lrSteps, "30000 x steps/15000"));
   {
     TrainOption r = row("restart-gaussians", "schedule/gaussian_restarts", "N[,N...]",
