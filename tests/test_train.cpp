@@ -231,7 +231,7 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
 // at 96 px, where straight rays cannot fake the water: measured with the water known (oracle)
 // 21.5 dB against 15.6 dB for --no-refraction after 3,000 steps of 32 x 32 patches. The joint run uses what short
 // runs need (see --help): three octaves, a faster surface, the anchored mean height, the level
-// prior, and the Gaussians drawn afresh three times as the surface learns the wave, each time
+// prior, the slope prior (below), and the Gaussians drawn afresh three times as the surface learns the wave, each time
 // at the depth a plane sweep finds through the water learned so far; a surface step per step
 // (the reference: no --surface-batch). The presets table and the demo sum a pass over the views
 // per surface step (--surface-batch views: with a step per view the surface ran away on 5 of
