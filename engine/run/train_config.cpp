@@ -236,7 +236,7 @@ TrainConfig trainConfigFromJson(const nlohmann::json& j, const std::string& wher
   if (schedule && !schedule->contains("octaves_open_until")) c.schedule.octavesOpenUntil = 0;
   if (schedule && !schedule->contains("gaussian_restarts") && schedule->contains("gaussian_restart")) {
     const nlohmann::json& one = schedule->at("gaussian_restart");
-    if (one.is_number_integer() && one.get<long long>() > 0 && one.get<long long>() <= 100000000) c.schedule.gaussianRestarts = {one.get<int>()};
+    if (one.is_number_integer() && one.get<long long>() > 0 && one.get<long long>() <= kMaxScheduleStep) c.schedule.gaussianRestarts = {one.get<int>()};
   }
   validateTrainConfig(c);
   return c;

@@ -34,6 +34,9 @@ enum class InitDepth { Box, Sweep };
 enum class Recipe { Method, Reference };
 enum class DensifyStrategy { Reference3dgs, Mcmc };
 
+// The largest step any schedule option takes: a step no run reaches, what "never" is written as.
+constexpr int kMaxScheduleStep = 100000000;
+
 struct ScheduleSteps {
   int surfaceFreeze = -1;        // surface (and flat height) frozen before this step; reference 1,000
   int surfaceUntil = 0;          // ... and frozen again after this step (0: learns to the end, the reference)

@@ -181,12 +181,12 @@ TrainOption textChoice(const std::string& flag, const std::string& key, const st
 // A step of the schedule: -1 (unset: scaled from the reference by resolveSchedule) or a step.
 TrainOption step(const std::string& flag, const std::string& name, const std::string& help, int ScheduleSteps::*m,
                  const std::string& shown) {
-  TrainOption o = integer<int>(flag, "schedule/" + name, "N", help, scheduleField(m), -1, 100000000);
+  TrainOption o = integer<int>(flag, "schedule/" + name, "N", help, scheduleField(m), -1, kMaxScheduleStep);
   o.required = true;
   o.shownDefault = shown;
   o.parse = [](const std::string& text, const std::string& n) {
     json v = parseInteger(text, n);
-    if (v.get<long long>() < 0 || v.get<long long>() > 100000000) fail(n + " must be a step count >= 0");
+    if (v.get<long long>() < 0 || v.get<long long>() > kMaxScheduleStep) fail(n + " must be a step count >= 0");
     return v;
   };
   return o;
@@ -476,7 +476,7 @@ std::vector<TrainOption> makeTable() {
       std::vector<int> steps;
       for (const json& s : v) {
         long long x = s.is_number_integer() ? integerOf(s, name) : -1;
-        if (x < 1 || x > 100000000) fail(name + " must be steps after the first, got " + s.dump());
+        if (x < 1 || x > kMaxScheduleStep) fail(name + " must be steps after the first, got " + s.dump());
         steps.push_back(int(x));
       }
       c.schedule.gaussianRestarts = steps;
@@ -491,7 +491,7 @@ std::vector<TrainOption> makeTable() {
       while (std::getline(in, item, ',')) {
         char* end = nullptr;
         double v = std::strtod(item.c_str(), &end);
-        if (item.empty() || end == item.c_str() || *end || v != std::floor(v) || v < 0 || v > 100000000) bad();
+        if (item.empty() || end == item.c_str() || *end || v != std::floor(v) || v < 0 || v > kMaxScheduleStep) bad();
         if (v > 0) steps.push_back(int(v));
       }
       if (!text.empty() && text.back() == ',') bad();

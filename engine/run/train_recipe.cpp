@@ -16,7 +16,7 @@ namespace {
 constexpr int kGpuSteps = 15000;
 constexpr int kCpuSteps = 8000;
 constexpr uint32_t kCpuPatch = 32;
-constexpr int kNever = 100000000;  // a step no run reaches (the options' largest step count)
+constexpr int kNever = kMaxScheduleStep;  // a step no run reaches
 
 // The method's surface (docs/training.md "The defaults"; chosen on bench/generalise.sh's
 // development scenes and the strong-wave scene, docs/experiments/2026-12-04-defaults.md): twice
