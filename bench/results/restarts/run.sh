@@ -6,11 +6,11 @@ cd "$(dirname "$0")/../../.."
 R=build/refrax
 # dev scenes, seed 1 (the defaults' and straight rays' rows: bench/results/octaves/defaults,
 # bench/results/large-prune/dev-prune-off.csv, bench/results/strong-wave-levers/dev-defaults-5-6)
-bash bench/generalise.sh --set dev --scene-list "11 9 12 14 15 5 6" --seeds 1 --steps 8000 --jobs 2 --models method --method-flags "--restart-gaussians 0" --out nr-dev
-bash bench/generalise.sh --set dev --scene-list "11 9 12 14 15 5 6" --seeds 1 --steps 8000 --jobs 2 --models method --method-flags "--restart-gate 1" --out rg-dev
-bash bench/generalise.sh --set dev --scene-list "14 12 9 6" --seeds 1 --steps 8000 --jobs 1 --models method --method-flags "--restart-gaussians 2000,3200" --out er-dev
-bash bench/generalise.sh --set dev --scene-list "11 15 5" --seeds 1 --steps 8000 --jobs 2 --models method --method-flags "--restart-gaussians 2000,3200" --out er-dev-b
-bash bench/generalise.sh --set dev --scene-list "14 9" --seed-list "2" --steps 8000 --jobs 2 --models method --method-flags "--restart-gaussians 2000,3200" --out er-dev-s2
+bash bench/generalise.sh --set dev --scene-list "11 9 12 14 15 5 6" --seeds 1 --steps 8000 --jobs 2 --models method --method-flags "--restart-gaussians 0" --out /tmp/restarts-nr-dev
+bash bench/generalise.sh --set dev --scene-list "11 9 12 14 15 5 6" --seeds 1 --steps 8000 --jobs 2 --models method --method-flags "--restart-gate 1" --out /tmp/restarts-rg-dev
+bash bench/generalise.sh --set dev --scene-list "14 12 9 6" --seeds 1 --steps 8000 --jobs 1 --models method --method-flags "--restart-gaussians 2000,3200" --out /tmp/restarts-er-dev
+bash bench/generalise.sh --set dev --scene-list "11 15 5" --seeds 1 --steps 8000 --jobs 2 --models method --method-flags "--restart-gaussians 2000,3200" --out /tmp/restarts-er-dev-b
+bash bench/generalise.sh --set dev --scene-list "14 9" --seed-list "2" --steps 8000 --jobs 2 --models method --method-flags "--restart-gaussians 2000,3200" --out /tmp/restarts-er-dev-s2
 # the strong wave (the long test's data), seeds 1-3
 data=/tmp/strong-wave; [ -f $data/water.json ] || $R synth nerfrac-primary-sine --size tiny --width 96 --ior 1.33 --wave-amplitude 2 -o $data >/dev/null
 for seed in 1 2 3; do

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The long test's flags less one at a time (seed 1): which carries its gain over the defaults.
 set -u
-export MESA_SHADER_CACHE_DIR=/work/main/.cache/mesa-shader-cache
-R=/work/main/build/refrax; data=/work/swab/data; out=/work/s1207/loo; mkdir -p $out
+cd "$(dirname "$0")/../../../.."  # the repository root
+R=build/refrax; data=/tmp/strong-wave
+[ -f $data/water.json ] || $R synth nerfrac-primary-sine --size tiny --width 96 --ior 1.33 --wave-amplitude 2 -o $data >/dev/null
+out=/tmp/strong-wave-leave-one-out; mkdir -p $out
 BASE="--recipe reference --steps 4000 --patch 64 --gaussians 2000 --max-gaussians 4000 --density-reset-every 0 --sh-degree 0 --checkpoint-every 0 --progress-every 100000"
 JOINT="--mlp-octaves 4 --grid-cells 16 --subdivision 2 --mlp-coarse-octaves 3 --octaves-open-until 10000000 --surface-lr 3e-3 --surface-freeze 400 --anchor-mean-height --level-prior 1000 --surface-smoothness 0.1 --init-depth sweep --restart-gaussians 1000,1600,2200"
 run() { local name=$1; shift; local dir=$out/$name; rm -rf $dir
