@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Issue 45, 2026-12-07: the long test's water settings as the CPU's defaults
+# (docs/experiments/2026-12-07-cpu-water.md). Lavapipe on a 2-core machine, two trainings at a
+# time for the accuracy runs (their seconds are no speed figures), one at a time for the cost.
+# Training code b169f10 (git ls-tree of engine/ shaders/ trainer/ CMakeLists.txt | git hash-object),
+# the defaults before this change; the candidate is given as flags.
+set -u
+cd "$(dirname "$0")/../../.."
+R=build/refrax
+CAND="--level-prior 1000 --surface-lr 3e-3 --surface-batch 1 --restart-gaussians 1000,1600,2200 --surface-freeze 400"
+# where the water matters: the method and straight rays, both at 4,000 steps of 64 px patches
+bash bench/generalise.sh --set dev --scene-list "9 14 15" --seed-list "1 2 3" --steps 4000 --jobs 2 \
+  --models "method no-refraction" --train-flags "--patch 64" --method-flags "$CAND" --out /tmp/cpu-water-dev-water --keep-work
+# where it runs away (dev 5, 11: seed 1 in bench/results/strong-wave-levers/test-config-dev) and
+# where 3e-3 with 32 px patches ran away on 2026-12-04 (dev 3, 4, 6)
+bash bench/generalise.sh --set dev --scene-list "5 11" --seed-list "2 3" --steps 4000 --jobs 2 \
+  --models method --train-flags "--patch 64" --method-flags "$CAND" --out /tmp/cpu-water-dev-diverge
+bash bench/generalise.sh --set dev --scene-list "6 3 4" --seed-list "1" --steps 4000 --jobs 2 \
+  --models method --train-flags "--patch 64" --method-flags "$CAND" --out /tmp/cpu-water-dev-diverge-b
+# the strong wave (the long test's data), seeds 1-3: the candidate and straight rays alike
+data=/tmp/strong-wave; [ -f $data/water.json ] || $R synth nerfrac-primary-sine --size tiny --width 96 --ior 1.33 --wave-amplitude 2 -o $data >/dev/null
+for seed in 1 2 3; do
+  $R train $data -o /tmp/sw-cand-$seed --seed $seed --steps 4000 --patch 64 $CAND --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/cand-$seed: /" &
+  $R train $data -o /tmp/sw-straight64-$seed --seed $seed --no-refraction --steps 4000 --patch 64 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/straight64-$seed: /" &
+  wait
+done
+# a run's cost, one training at a time: half-length runs on dev 14 and dev 9 (the drawn scenes
+# of the first invocation), the earlier defaults 2,000 steps of 32 px (their recipe, as flags),
+# the candidate 1,000 of 64 px
+for scene in 14 9; do
+  d=/tmp/cpu-water-dev-water/work/data/scene_${scene}_wet
+  for rep in 1 2; do
+    $R train $d -o /tmp/cost-def-$scene-$rep --steps 2000 --patch 32 --surface-lr 1e-3 --surface-batch views --level-prior 10000 \
+      --restart-gaussians 666,1066 --surface-freeze 266 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/def-$scene-$rep: /"
+    $R train $d -o /tmp/cost-cand-$scene-$rep --steps 1000 --patch 64 --level-prior 1000 --surface-lr 3e-3 --surface-batch 1 \
+      --restart-gaussians 250,400,550 --surface-freeze 100 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/cand-$scene-$rep: /"
+  done
+done
+# equal time (the candidate costs 1.52x a run): the candidate at 2,650 steps, and the earlier
+# defaults (given as flags: this binary's recipe is the candidate) at 12,000 steps
+EQ="--level-prior 1000 --surface-lr 3e-3 --surface-batch 1 --restart-gaussians 662,1060,1457 --surface-freeze 265"
+OLD="--surface-lr 1e-3 --surface-batch views --level-prior 10000 --restart-gaussians 4000,6400 --surface-freeze 1600"
+bash bench/generalise.sh --set dev --scene-list "14" --seed-list "1 2 3" --steps 2650 --jobs 2 \
+  --models method --train-flags "--patch 64" --method-flags "$EQ" --out /tmp/cpu-water-eq-dev14
+bash bench/generalise.sh --set dev --scene-list "14" --seed-list "1 2" --steps 12000 --jobs 2 \
+  --models method --train-flags "--patch 32" --method-flags "$OLD" --out /tmp/cpu-water-def12k-dev14
+for seed in 1 2 3; do
+  $R train $data -o /tmp/sw-eq-$seed --seed $seed --steps 2650 --patch 64 $EQ --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/sw-$seed: /"
+  $R train $data -o /tmp/sw-def12k-$seed --seed $seed --steps 12000 --patch 32 $OLD --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/sw-$seed: /"
+done
