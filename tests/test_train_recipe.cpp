@@ -32,30 +32,38 @@ auto givenKeys(std::set<std::string> keys) {
 TEST_CASE("recipe: the method sizes the run for the device and fills the water's settings") {
   TrainConfig cpu = methodConfig();
   applyRecipe(cpu, givenKeys({}), RecipeDevice{true}, 252, 252);
-  CHECK(cpu.steps == 8000);
-  CHECK(cpu.patch == 32);
+  CHECK(cpu.steps == 4000);
+  CHECK(cpu.patch == 64);
   CHECK(cpu.maxShDegree == 0);
   CHECK(cpu.schedule.densityResetInterval == 0);
   CHECK(cpu.schedule.pruneLargeFrom > 100 * cpu.steps);  // no density resets, no large prune (3DGS)
   CHECK(cpu.initDepth == InitDepth::Sweep);
-  CHECK(cpu.surfaceLearningRate == 1e-3);
-  CHECK(cpu.surfaceBatch == 0);  // views
-  CHECK(cpu.schedule.surfaceFreeze == 1066);
-  CHECK(cpu.schedule.gaussianRestarts == std::vector<int>{2666, 4266});
+  CHECK(cpu.surfaceLearningRate == 3e-3);
+  CHECK(cpu.surfaceBatch == 1);  // a surface step every step
+  CHECK(cpu.schedule.surfaceFreeze == 400);
+  CHECK(cpu.schedule.gaussianRestarts == std::vector<int>{1000, 1600, 2200});
   CHECK(cpu.mlpCoarseOctaves == 3);
   CHECK(cpu.anchorMeanHeight);
-  CHECK(cpu.levelPrior == 10000);
+  CHECK(cpu.levelPrior == 1000);
   CHECK(cpu.surfaceSmoothness == 0.1);
 
   TrainConfig gpu = methodConfig();
   applyRecipe(gpu, givenKeys({}), RecipeDevice{false}, 252, 252);
   CHECK(gpu.steps == 15000);
   CHECK(gpu.patch == 0);  // whole images
+  CHECK(gpu.surfaceLearningRate == 1e-3);  // the GPU's water is not the CPU's
+  CHECK(gpu.surfaceBatch == 0);            // views
+  CHECK(gpu.schedule.surfaceFreeze == 2000);
   CHECK(gpu.schedule.gaussianRestarts == std::vector<int>{5000, 8000});
+  CHECK(gpu.levelPrior == 10000);
+  CHECK(gpu.surfaceSmoothness == 0.1);
 
-  TrainConfig small = methodConfig();  // no room for a 32 px patch to move
-  applyRecipe(small, givenKeys({}), RecipeDevice{true}, 63, 200);
+  TrainConfig small = methodConfig();  // images no larger than the 64 px patch train whole
+  applyRecipe(small, givenKeys({}), RecipeDevice{true}, 64, 200);
   CHECK(small.patch == 0);
+  TrainConfig fits = methodConfig();
+  applyRecipe(fits, givenKeys({}), RecipeDevice{true}, 65, 200);
+  CHECK(fits.patch == 64);
 }
 
 TEST_CASE("recipe: a flag given wins, and the schedule follows the steps given") {
@@ -70,8 +78,8 @@ TEST_CASE("recipe: a flag given wins, and the schedule follows the steps given")
   CHECK(c.patch == 16);
   CHECK(c.levelPrior == 10);
   CHECK(c.maxShDegree == 2);
-  CHECK(c.schedule.gaussianRestarts == std::vector<int>{500, 800});  // the demo's
-  CHECK(c.schedule.surfaceFreeze == 200);
+  CHECK(c.schedule.gaussianRestarts == std::vector<int>{375, 600, 825});  // 1/4, 2/5 and 11/20 of the run
+  CHECK(c.schedule.surfaceFreeze == 150);
   for (const RecipeChoice& choice : chosen) CHECK(std::set<std::string>{"steps", "patch", "level_prior", "max_sh_degree"}.count(choice.key) == 0);
 
   TrainConfig shortRun = methodConfig();  // too short for a restart: none, not a refused run
@@ -96,7 +104,7 @@ TEST_CASE("recipe: the comparison models take the Gaussians' settings, not the w
     TrainConfig c = methodConfig(model);
     applyRecipe(c, givenKeys({}), RecipeDevice{true}, 252, 252);
     INFO(waterModelName(model));
-    CHECK(c.patch == 32);
+    CHECK(c.patch == 64);
     CHECK(c.maxShDegree == 0);
     CHECK(c.initDepth == InitDepth::Sweep);
     CHECK(c.schedule.pruneLargeFrom > 100 * c.steps);
@@ -106,7 +114,8 @@ TEST_CASE("recipe: the comparison models take the Gaussians' settings, not the w
   }
   TrainConfig flat = methodConfig(WaterModel::FlatWater);  // a learned plane: the water's schedule, no height-field terms
   applyRecipe(flat, givenKeys({}), RecipeDevice{true}, 252, 252);
-  CHECK(flat.schedule.gaussianRestarts == std::vector<int>{2666, 4266});
+  CHECK(flat.schedule.gaussianRestarts == std::vector<int>{1000, 1600, 2200});
+  CHECK(flat.surfaceLearningRate == 3e-3);
   CHECK(flat.levelPrior == 0);
   CHECK(flat.surfaceSmoothness == 0);
 
@@ -129,19 +138,22 @@ TEST_CASE("recipe: refrax train records the method's choices, --recipe reference
           doctest::test_suite("one-backend")) {
   test::TrainTempDir dir;
   const std::string data = test::tinyDataset("nerfrac-primary-sine");
-  test::CliResult method = test::runCli("train " + data + " -o " + (dir / "method") + " --steps 12 --gaussians 200 --checkpoint-every 6");
+  const std::string data96 = test::tinyDataset("nerfrac-primary-sine", "--width 96");  // room for a 64 px patch
+  test::CliResult method = test::runCli("train " + data96 + " -o " + (dir / "method") + " --steps 12 --gaussians 200 --checkpoint-every 6");
   INFO(method.output);
   REQUIRE(method.exitCode == 0);
   CHECK(method.output.find("the method's settings for a") != std::string::npos);
   nlohmann::json c = readJson(dir / "method/config.json");
   CHECK(c["recipe"] == "method");
-  CHECK(c["steps"] == 12);              // given
-  CHECK(c["surface_lr"] == 1e-3);       // the recipe's
+  CHECK(c["steps"] == 12);  // given
   CHECK(c["anchor_mean_height"] == true);
-  CHECK(c["schedule"]["gaussian_restarts"] == nlohmann::json::array({4, 6}));
-  // the device decides the batch: lavapipe is a CPU (patches), a GPU trains whole images
+  // the device decides the batch and the water's settings: lavapipe is a CPU (patches), a GPU
+  // trains whole images
   const bool cpu = method.output.find("for a CPU device") != std::string::npos;
-  CHECK(c["patch"] == (cpu ? 32 : 0));
+  CHECK(c["patch"] == (cpu ? 64 : 0));
+  CHECK(c["surface_lr"] == (cpu ? 3e-3 : 1e-3));
+  const nlohmann::json restarts = cpu ? nlohmann::json::array({3, 4, 6}) : nlohmann::json::array({4, 6});
+  CHECK(c["schedule"]["gaussian_restarts"] == restarts);
 
   test::CliResult reference =
       test::runCli("train " + data + " -o " + (dir / "reference") + " --recipe reference --steps 12 --gaussians 200 --checkpoint-every 0");
@@ -157,7 +169,7 @@ TEST_CASE("recipe: refrax train records the method's choices, --recipe reference
   test::CliResult resumed = test::runCli("train --resume " + (dir / "method") + " --steps 15");
   INFO(resumed.output);
   REQUIRE(resumed.exitCode == 0);
-  CHECK(readJson(dir / "method/config.json")["schedule"]["gaussian_restarts"] == nlohmann::json::array({4, 6}));
+  CHECK(readJson(dir / "method/config.json")["schedule"]["gaussian_restarts"] == restarts);
 
   test::checkOneError(test::runCli("train " + data + " -o " + (dir / "bad") + " --recipe paper"), "--recipe must be method or reference");
   CHECK(!std::filesystem::exists(dir / "bad"));
@@ -177,7 +189,9 @@ TEST_CASE("recipe: --time-limit without --steps sizes the run to the time, and -
   const nlohmann::json c = readJson(dir / "timed/config.json");
   CHECK(c["steps"] == steps);
   CHECK(steps >= 100);
-  CHECK(c["schedule"]["gaussian_restarts"] == nlohmann::json::array({steps / 3, steps * 8 / 15}));
+  const bool cpu = timed.output.find("for a CPU device") != std::string::npos;
+  CHECK(c["schedule"]["gaussian_restarts"] ==
+        (cpu ? nlohmann::json::array({steps / 4, steps * 2 / 5, steps * 11 / 20}) : nlohmann::json::array({steps / 3, steps * 8 / 15})));
 
   test::CliResult given = test::runCli("train " + data + " -o " + (dir / "given") + " --time-limit 3 --steps 7 --gaussians 200 --checkpoint-every 0");
   REQUIRE(given.exitCode == 0);

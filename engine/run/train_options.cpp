@@ -249,7 +249,7 @@ std::vector<TrainOption> makeTable() {
   }
   t.push_back(shown(required(resumable(integer<int>("steps", "steps", "N", "training steps (one training image or patch each)",
                                                       field(&TrainConfig::steps), 1, 10000000))),
-                    "15000 on a GPU, 8000 on a CPU; with --time-limit, what fits it; reference 15000"));
+                    "15000 on a GPU, 4000 on a CPU; with --time-limit, what fits it; reference 15000"));
   t.push_back(required(integer<uint64_t>("seed", "seed", "S", "random seed (initial Gaussians, height field, view order, patches)",
                                          field(&TrainConfig::seed), 0, LLONG_MAX)));
   t.push_back(shown(required(integer<uint32_t>("gaussians", "initial_gaussians", "N", "initial Gaussians, uniform in the box derived under the water",
@@ -302,7 +302,7 @@ std::vector<TrainOption> makeTable() {
   t.push_back(shown(real("surface-lr", "surface_lr", "X",
                          "surface learning rate at step 0 (MLP weights, or the flat height), decaying to X/100 (reference 5e-4)",
                          field(&TrainConfig::surfaceLearningRate), 0, true, 1, true),
-                    "1e-3; reference 5e-4"));
+                    "1e-3 on a GPU, 3e-3 on a CPU; reference 5e-4"));
   t.push_back(shown(required(integer<uint32_t>("grid-cells", "grid_cells", "N", "water-surface proxy mesh cells per side",
                                          field(&TrainConfig::gridCells), 1, 4096)), "from the data: 2^octaves"));
   t.push_back(shown(required(integer<uint32_t>("subdivision", "subdivision_levels", "K", "recursive subdivision levels of the surface trace",
@@ -323,7 +323,7 @@ std::vector<TrainOption> makeTable() {
   t.push_back(shown(required(integer<uint32_t>("patch", "patch", "P",
                                                "train on one random P x P patch per step (0: whole images); ~P^2/(w h) of the time per step",
                                                field(&TrainConfig::patch), 0, 16384)),
-                    "0 on a GPU, 32 on a CPU (images of 64 px and more); reference 0"));
+                    "0 on a GPU, 64 on a CPU (images over 64 px); reference 0"));
   t.push_back(required(real("density-decay", "density_decay", "X", "density multiplier every --density-decay-every steps",
                             field(&TrainConfig::densityDecay), 0, true, 1, false)));
   t.push_back(real("density-loss", "density_loss", "X",
@@ -344,11 +344,11 @@ std::vector<TrainOption> makeTable() {
       else setCount(c, v, name);
     };
     b.parse = [](const std::string& text, const std::string& name) { return text == "views" ? json("views") : parseInteger(text, name); };
-    b.shownDefault = "views; reference 1";
+    b.shownDefault = "views on a GPU, 1 on a CPU; reference 1";
     t.push_back(b);
   }
   t.push_back(step("surface-freeze", "surface_freeze", "surface frozen for the first N steps", &ScheduleSteps::surfaceFreeze,
-                   "2 x steps/15; reference 1000 x steps/15000"));
+                   "2 x steps/15 on a GPU, steps/10 on a CPU; reference 1000 x steps/15000"));
   {
     // Not scaled with --steps, and absent from runs written before it: 0, the reference.
     TrainOption o = step("surface-until", "surface_until",
@@ -380,7 +380,7 @@ std::vector<TrainOption> makeTable() {
                    "y^2} part of a least-squares fit, each vertex weighted by the training views that see it): straight-down views "
                    "barely see them (docs/training.md)",
                    field(&TrainConfig::levelPrior), 0, false, inf, false));
-  t.back().shownDefault = "10000; reference 0";
+  t.back().shownDefault = "10000 on a GPU, 1000 on a CPU; reference 0";
   t.push_back(switchOption("level-prior-tilt-only", "level_prior_tilt_only",
                            "the level prior on the seen water's tilt alone ({x, y}), not its bowl: a wave longer than the seen water is "
                            "partly a bowl, which the full prior holds flat (docs/training.md)",
@@ -469,7 +469,7 @@ std::vector<TrainOption> makeTable() {
                         "draw the Gaussians afresh after each step N (as at step 0, with fresh Adam state and schedules), the surface "
                         "kept: the first Gaussians absorb the distortion of the still-flat water, and fresh ones let it grow toward the "
                         "true amplitude; with --init-depth sweep each restart looks through a better surface (docs/training.md) (0: never)");
-    r.shownDefault = "a third and 8/15 of the steps where the water learns; reference 0";
+    r.shownDefault = "where the water learns, 1/3 and 8/15 of the steps on a GPU, 1/4, 2/5 and 11/20 on a CPU; reference 0";
     r.get = [](const TrainConfig& c) { return json(c.schedule.gaussianRestarts); };
     r.set = [](TrainConfig& c, const json& v, const std::string& name) {
       if (!v.is_array()) fail(name + " must be a list of steps, got " + v.dump());

@@ -1,31 +1,50 @@
 #include "engine/run/train_recipe.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <sstream>
 
 namespace refrax {
 namespace {
 
-// The method's size by device. A 32 x 32 patch step costs about a third of a 64 x 64 one on
-// lavapipe (34 against 101 ms with 7,900 Gaussians on this project's 2-core machine), and a
-// whole 252 px image about 1.5 s: a CPU trains on patches; a GPU on whole images, as the paper.
-// 8,000 CPU steps, not 4,000: the water learns slowly at the defaults, and at 4,000 it had barely
-// left the flat start (amplitude 0.04) while straight rays led it; at 8,000 the method's lead
-// over straight rays at equal steps grew on every development pair and the evaluation scenes
-// (docs/experiments/2026-12-06-steps.md).
+// The method's size by device. A whole 252 px image costs about 1.5 s a step on lavapipe: a CPU
+// trains on patches, a GPU on whole images, as the paper. On a CPU, 4,000 steps of 64 px patches
+// (about the time of 8,000 of 32 px): the larger patch gives the water's gradient more of the
+// image, and with the CPU's water settings below it learned the water where 8,000 steps of 32 px
+// had left it near flat (docs/experiments/2026-12-07-cpu-water.md).
 constexpr int kGpuSteps = 15000;
-constexpr int kCpuSteps = 8000;
-constexpr uint32_t kCpuPatch = 32;
+constexpr int kCpuSteps = 4000;
+constexpr uint32_t kCpuPatch = 64;
 constexpr int kNever = kMaxScheduleStep;  // a step no run reaches
 
-// The method's surface (docs/training.md "The defaults"; chosen on bench/generalise.sh's
-// development scenes and the strong-wave scene, docs/experiments/2026-12-04-defaults.md): twice
-// the reference's learning rate (the short runs' 3e-3 let weakly seen water walk away, to 22x the
-// flat start's error on one scene), the level prior ten times the short runs' 1,000 (tilts of
-// 36 mm/m grew under it), and the slope prior, which held the last scene that ran away.
-constexpr double kSurfaceLearningRate = 1e-3;
+// A point in the run, as a fraction of its steps.
+struct RunFraction {
+  int numerator, denominator;
+  int of(int steps) const { return int(int64_t(steps) * numerator / denominator); }
+};
+
+// The water's rates and schedule by device (docs/training.md "The defaults").
+struct WaterRecipe {
+  double surfaceLearningRate;
+  double levelPrior;
+  int surfaceBatch;  // steps per surface step; 0: one pass over the views
+  RunFraction surfaceFreeze;
+  std::vector<RunFraction> gaussianRestarts;
+};
+
+// On a CPU: a fast surface stepping every step under the short runs' level prior, three restarts
+// (the long test's settings, measured on the development scenes at three seeds against straight
+// rays trained alike, docs/experiments/2026-12-07-cpu-water.md).
+const WaterRecipe kCpuWater{3e-3, 1000, 1, {1, 10}, {{1, 4}, {2, 5}, {11, 20}}};
+// On a GPU (not measured there; chosen at the CPU's earlier budget of 8,000 steps of 32 px,
+// docs/experiments/2026-12-04-defaults.md): twice the reference's rate, one surface step per pass
+// over the views, and the level prior ten times 1,000, under which 15,000 surface steps at 3e-3
+// would be four times the walking the CPU's settings were measured with.
+const WaterRecipe kGpuWater{1e-3, 10000, 0, {2, 15}, {{1, 3}, {8, 15}}};
+
+// The height field's shape on every device: three coarse octaves, and the slope prior, which
+// held the last development scene that ran away.
 constexpr uint32_t kCoarseOctaves = 3;
-constexpr double kLevelPrior = 10000;
 constexpr double kSurfaceSmoothness = 0.1;
 
 std::string text(double v) {
@@ -49,8 +68,8 @@ std::vector<RecipeChoice> applyRecipe(TrainConfig& c, const std::function<bool(c
     note("steps", text(c.steps));
   }
   if (open("patch")) {
-    // a patch needs room to move: images under twice its side train whole
-    c.patch = device.cpu && std::min(imageWidth, imageHeight) >= int(2 * kCpuPatch) ? kCpuPatch : 0;
+    // images no larger than the patch train whole
+    c.patch = device.cpu && std::min(imageWidth, imageHeight) > int(kCpuPatch) ? kCpuPatch : 0;
     note("patch", text(c.patch));
   }
 
@@ -69,20 +88,26 @@ std::vector<RecipeChoice> applyRecipe(TrainConfig& c, const std::function<bool(c
   if (open("schedule/prune_large_from") && c.schedule.densityResetInterval == 0)
     c.schedule.pruneLargeFrom = kNever, note("schedule/prune_large_from", std::to_string(kNever));
 
-  // Where the water learns (the height field, or the flat plane): a fast surface, one step per
-  // pass over the views, and the Gaussians drawn afresh twice through the water learned so far.
+  // Where the water learns (the height field, or the flat plane): the device's water settings, the
+  // Gaussians drawn afresh through the water learned so far.
   const bool waterLearns = c.model == WaterModel::Refraction || c.model == WaterModel::FlatWater;
   if (!waterLearns) return chosen;
-  if (open("surface_lr")) c.surfaceLearningRate = kSurfaceLearningRate, note("surface_lr", text(kSurfaceLearningRate));
-  if (open("surface_batch")) c.surfaceBatch = 0, note("surface_batch", "views");
+  const WaterRecipe& water = device.cpu ? kCpuWater : kGpuWater;
+  if (open("surface_lr")) c.surfaceLearningRate = water.surfaceLearningRate, note("surface_lr", text(water.surfaceLearningRate));
+  if (open("surface_batch")) {
+    c.surfaceBatch = water.surfaceBatch;
+    note("surface_batch", water.surfaceBatch == 0 ? "views" : text(water.surfaceBatch));
+  }
   if (open("schedule/surface_freeze")) {
-    c.schedule.surfaceFreeze = c.steps * 2 / 15;
+    c.schedule.surfaceFreeze = water.surfaceFreeze.of(c.steps);
     note("schedule/surface_freeze", text(c.schedule.surfaceFreeze));
   }
   if (open("schedule/gaussian_restarts") && !c.gaussiansFixed) {
     std::vector<int> restarts;
-    for (int r : {c.steps / 3, c.steps * 8 / 15})
+    for (const RunFraction& f : water.gaussianRestarts) {
+      const int r = f.of(c.steps);
       if (r > 0 && r < c.steps && (restarts.empty() || r > restarts.back())) restarts.push_back(r);
+    }
     c.schedule.gaussianRestarts = restarts;
     std::string list;
     for (int r : restarts) list += (list.empty() ? "" : ",") + text(r);
@@ -92,7 +117,7 @@ std::vector<RecipeChoice> applyRecipe(TrainConfig& c, const std::function<bool(c
   if (open("mlp_coarse_octaves")) c.mlpCoarseOctaves = kCoarseOctaves, note("mlp_coarse_octaves", text(kCoarseOctaves));
   if (open("schedule/octaves_open_until")) c.schedule.octavesOpenUntil = kNever, note("schedule/octaves_open_until", std::to_string(kNever));
   if (open("anchor_mean_height")) c.anchorMeanHeight = true, note("anchor_mean_height", "true");
-  if (open("level_prior")) c.levelPrior = kLevelPrior, note("level_prior", text(kLevelPrior));
+  if (open("level_prior")) c.levelPrior = water.levelPrior, note("level_prior", text(water.levelPrior));
   if (open("surface_smoothness")) c.surfaceSmoothness = kSurfaceSmoothness, note("surface_smoothness", text(kSurfaceSmoothness));
   return chosen;
 }

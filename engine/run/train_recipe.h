@@ -4,11 +4,13 @@
 // the model (engine/train/model_sizing.h) and the schedule is scaled to the steps.
 //
 //   method     (the default) the settings that recover the water on scenes nobody tuned for
-//              (docs/training.md "The defaults"; the study behind them is
-//              docs/experiments/2026-12-04-defaults.md): whole images on a GPU, patches on a
-//              CPU; a fast surface opening coarse to fine, its level held (anchor, level
-//              prior), one surface step per pass over the views; the Gaussians drawn at a
-//              plane sweep's depth and drawn afresh twice through the water learned so far.
+//              (docs/training.md "The defaults"; the studies behind them are
+//              docs/experiments/2026-12-04-defaults.md and 2026-12-07-cpu-water.md): whole
+//              images on a GPU, 64 px patches on a CPU; a fast surface on three coarse octaves,
+//              its level held (anchor, level prior), stepping once per pass over the views on
+//              a GPU and every step on a CPU; the Gaussians drawn at a plane sweep's depth and
+//              drawn afresh through the water learned so far (twice on a GPU, three times on
+//              a CPU).
 //   reference  the paper's schedule as the reference code runs it (15,000 whole-image steps,
 //              the surface at 5e-4 every step, SH degree 3, density resets): for studies.
 //
