@@ -96,11 +96,8 @@ TEST_CASE("training: steps not waited for learn what waited-for steps learn, and
     const char* options;
     int notWaitedAtLeast;  // measured 177 and 197 of 300
   };
-  // The defaults' case takes the GPU's water settings, given so that a CPU trains them too; the
-  // CPU's (a surface step every step) wait for most steps
-  // (19 of 300 not waited for, 2026-12-07; issue 48's work).
-  const char* gpuWater = " --surface-batch views --surface-lr 1e-3 --level-prior 10000 --restart-gaussians 100,160 --surface-freeze 40";
-  for (const Case& k : {Case{gpuWater, 150}, Case{" --recipe reference --surface-freeze 30", 170}}) {
+  // The defaults' case takes the GPU's water settings (test::kGpuWater300StepOptions).
+  for (const Case& k : {Case{test::kGpuWater300StepOptions, 150}, Case{" --recipe reference --surface-freeze 30", 170}}) {
     CAPTURE(k.options);
     test::TrainTempDir dir;
     const std::string data = test::tinyDataset("nerfrac-primary-sine");

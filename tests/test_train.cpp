@@ -36,11 +36,7 @@ namespace {
 using test::TrainTempDir;
 
 const char* kTinyOptions = " --steps 300 --gaussians 2000 --patch 32 --progress-every 100 --checkpoint-every 0";
-// The refraction runs below take the GPU's water settings (one surface step per pass over the
-// views), given so that a CPU trains them too: the figures below were measured so. The CPU's own
-// (a surface step every step) waited for 281 of 300 steps
-// and made 2.08 submissions a step here (2026-12-07; issue 48's work).
-const char* kTinyWaterOptions = " --surface-batch views --surface-lr 1e-3 --level-prior 10000 --restart-gaussians 100,160 --surface-freeze 40";
+// The refraction runs below take the GPU's water settings (test::kGpuWater300StepOptions).
 // Measured (lavapipe, seed 1, the model sized from the data): test PSNR 16.00 to 16.17 after
 // 300 steps over four runs; the bar leaves 1.0 dB.
 constexpr double kRefractionPsnrBar = 15.0;
@@ -59,7 +55,7 @@ const TinyComparison& tinyComparison() {
   static TinyComparison c = [] {
     TinyComparison t;
     std::string data = test::tinyDataset("nerfrac-primary-sine");
-    t.refraction = test::trainAndReadMetrics(data, t.dir / "refraction", std::string(kTinyOptions) + kTinyWaterOptions);
+    t.refraction = test::trainAndReadMetrics(data, t.dir / "refraction", std::string(kTinyOptions) + test::kGpuWater300StepOptions);
     t.plain = test::trainAndReadMetrics(data, t.dir / "plain", std::string(kTinyOptions) + " --no-refraction");
     MESSAGE("refraction psnr " << t.refraction["psnr"] << " ssim " << t.refraction["ssim"] << " surface rmse "
                                << t.refraction["surface_rmse"] << " (flat " << t.refraction["initial_flat_surface_rmse"]
@@ -80,7 +76,7 @@ std::vector<std::pair<nlohmann::json, nlohmann::json>> tinySeedPairs(const TinyC
     std::string data = test::tinyDataset("nerfrac-primary-sine");
     for (int seed = 2; seed <= 3; seed++) {
       const std::string options = std::string(kTinyOptions) + " --seed " + std::to_string(seed);
-      p.push_back({test::trainAndReadMetrics(data, c.dir / ("refraction-" + std::to_string(seed)), options + kTinyWaterOptions),
+      p.push_back({test::trainAndReadMetrics(data, c.dir / ("refraction-" + std::to_string(seed)), options + test::kGpuWater300StepOptions),
                    test::trainAndReadMetrics(data, c.dir / ("plain-" + std::to_string(seed)), options + " --no-refraction")});
     }
     return p;
@@ -212,7 +208,7 @@ TEST_CASE("train: a tiny NeRFrac-like run writes every output, reaches the measu
       TrainTempDir staged;
       const char* cli = std::getenv("REFRAX_CLI");
       test::CliResult r = test::runShell("REFRAX_FORCE_STAGING=1 " + std::string(cli ? cli : REFRAX_CLI) + " train " +
-                                         test::tinyDataset("nerfrac-primary-sine") + " -o " + (staged / "run") + kTinyOptions + kTinyWaterOptions);
+                                         test::tinyDataset("nerfrac-primary-sine") + " -o " + (staged / "run") + kTinyOptions + test::kGpuWater300StepOptions);
       INFO(r.output);
       REQUIRE(r.exitCode == 0);
       const double submits = readJson(staged / "run/metrics.json")["profile"]["submits_per_step"].get<double>();

@@ -28,6 +28,13 @@ struct TrainTempDir {
   std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
 
+// The GPU's water settings for a 300-step run (one surface step per pass over the views, the
+// schedule of train_recipe.cpp's kGpuWater at 300 steps), given so that a CPU trains them too:
+// the tiny training tests' figures were measured under them. The CPU's own (a surface step every
+// step) waited for 281 of 300 steps and made 2.08 submissions a step there (2026-12-07; issue 48).
+inline constexpr const char* kGpuWater300StepOptions =
+    " --surface-batch views --surface-lr 1e-3 --level-prior 10000 --restart-gaussians 100,160 --surface-freeze 40";
+
 // The tiny preset's dataset folder, with extra `refrax synth` options (generated on first
 // use; removed at process exit).
 inline std::string tinyDataset(const std::string& preset, const std::string& options = "") {
