@@ -92,7 +92,11 @@ std::vector<RecipeChoice> applyRecipe(TrainConfig& c, const std::function<bool(c
   // Gaussians drawn afresh through the water learned so far.
   const bool waterLearns = c.model == WaterModel::Refraction || c.model == WaterModel::FlatWater;
   if (!waterLearns) return chosen;
-  const WaterRecipe& water = device.cpu ? kCpuWater : kGpuWater;
+  // The flat plane keeps the slower settings on a CPU too: its one parameter, the height, is
+  // barely determined by top-down views, and Adam walks it about a learning rate a step, so a
+  // step every step at 3e-3 carried it 0.39-0.60 m from the water (RMSE) on the tiny weak-wave
+  // presets, 13.96-19.76 dB against 20.30 with these (bench/results/readme-table/, 2026-12-06/07).
+  const WaterRecipe& water = device.cpu && c.model == WaterModel::Refraction ? kCpuWater : kGpuWater;
   if (open("surface_lr")) c.surfaceLearningRate = water.surfaceLearningRate, note("surface_lr", text(water.surfaceLearningRate));
   if (open("surface_batch")) {
     c.surfaceBatch = water.surfaceBatch;
