@@ -48,3 +48,16 @@ for seed in 1 2 3; do
   $R train $data -o /tmp/sw-eq-$seed --seed $seed --steps 2650 --patch 64 $EQ --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/sw-$seed: /"
   $R train $data -o /tmp/sw-def12k-$seed --seed $seed --steps 12000 --patch 32 $OLD --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/sw-$seed: /"
 done
+# After the change (training code 7c96c57, the defaults of 4c4bf8f): the evaluation set at the
+# defaults, seed 1, the method and straight rays, two trainings at a time (eval-defaults/), and
+# the comparison with the earlier defaults (eval-defaults/before-after.txt)
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set eval --scenes 12 --seed-list "1" --models "method no-refraction" --jobs 2 \
+  --out /tmp/cpu-water-eval-defaults
+python3 bench/results/cpu-water/eval-before-after.py . /tmp/cpu-water-eval-defaults
+# Gentle waves: dev 10 and 16 (slope bounds 0.152 and 0.217), the method at the defaults, seeds 1-3
+# (dev-gentle/), and desk (tiny) at 1,500 steps with --sweep-watch 200 (gentle-screens.txt)
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "10 16" --seed-list "1 2 3" --models method --jobs 1 --out /tmp/cpu-water-dev-gentle
+$R synth desk --size tiny -o /tmp/desk >/dev/null
+for seed in 1 2 3; do
+  $R train /tmp/desk -o /tmp/desk-watch-$seed --steps 1500 --seed $seed --sweep-watch 200 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/watch $seed: /"
+done
