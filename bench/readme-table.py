@@ -85,7 +85,10 @@ def main():
     print()
     steps = next(iter(shared['config_steps']))
     name = lambda p: f'{p}x{p} patches' if p not in ('0', '') else 'whole images'
-    batch = '; '.join(f"{' or '.join(name(p) for p in sorted(ps))} at {px}" for px, ps in batches.items())
+    by_batch = {}  # the batch's words -> the image sizes that trained with it, in the table's order
+    for px, ps in batches.items():
+        by_batch.setdefault(' or '.join(name(p) for p in sorted(ps)), []).append(px)
+    batch = '; '.join(f"{words} at {' and '.join(sizes)}" for words, sizes in by_batch.items())
     print(f"Every row: refrax train's defaults at {steps} steps ({batch}), seeds {', '.join(map(str, seeds))}; the median over the seeds "
           "(its spread, max - min) of the test PSNR (dB) / surface RMSE (m); between views: the three models' median PSNR on the four "
           "views between a 3x3 rig's training cameras.")
