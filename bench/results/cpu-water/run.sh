@@ -61,3 +61,7 @@ $R synth desk --size tiny -o /tmp/desk >/dev/null
 for seed in 1 2 3; do
   $R train /tmp/desk -o /tmp/desk-watch-$seed --steps 1500 --seed $seed --sweep-watch 200 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/watch $seed: /"
 done
+# The strong wave at the defaults with the long test's Gaussian budget, seeds 1-3 (strong-wave-gaussians.txt)
+for seed in 1 2 3; do
+  $R train $data -o /tmp/sw-g-$seed --seed $seed --gaussians 2000 --max-gaussians 4000 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/gaussians 2000-4000 seed $seed: /"
+done
