@@ -65,3 +65,7 @@ done
 for seed in 1 2 3; do
   $R train $data -o /tmp/sw-g-$seed --seed $seed --gaussians 2000 --max-gaussians 4000 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/gaussians 2000-4000 seed $seed: /"
 done
+for seed in 1 2 3; do
+  $R train /tmp/desk -o /tmp/desk-lp-$seed --steps 1500 --seed $seed --level-prior 10000 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/level-prior 10000 seed $seed: /"
+  $R train /tmp/desk -o /tmp/desk-lr-$seed --steps 1500 --seed $seed --surface-lr 1e-3 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/surface-lr 1e-3 seed $seed: /"
+done
