@@ -69,3 +69,4 @@ for seed in 1 2 3; do
   $R train /tmp/desk -o /tmp/desk-lp-$seed --steps 1500 --seed $seed --level-prior 10000 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/level-prior 10000 seed $seed: /"
   $R train /tmp/desk -o /tmp/desk-lr-$seed --steps 1500 --seed $seed --surface-lr 1e-3 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/surface-lr 1e-3 seed $seed: /"
 done
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "10" --seed-list "1" --models method --method-flags "--level-prior 10000" --jobs 1 --out /tmp/cpu-water-dev10-lp
