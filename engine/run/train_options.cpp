@@ -221,7 +221,7 @@ std::vector<TrainOption> makeTable() {
   const double inf = INFINITY;
   std::vector<TrainOption> t;
   t.push_back(modelSwitch("no-refraction", "comparison: plain 3DGRT, straight rays, no water surface", WaterModel::NoRefraction));
-  t.push_back(modelSwitch("flat-water", "comparison: a flat water plane whose only parameter, its height, is learned", WaterModel::FlatWater));
+  t.push_back(modelSwitch("flat-water", "comparison: a flat water plane whose only parameter, its height, is learned (at the GPU's water settings on every device)", WaterModel::FlatWater));
   t.push_back(modelSwitch("known-water", "oracle: the dataset's ground-truth surface (water.json), fixed; only the Gaussians learn",
                           WaterModel::KnownWater));
   t.push_back(real("known-water-scale", "known_water_scale", "S",

@@ -95,7 +95,7 @@ std::vector<RecipeChoice> applyRecipe(TrainConfig& c, const std::function<bool(c
   // The flat plane keeps the slower settings on a CPU too: its one parameter, the height, is
   // barely determined by top-down views, and Adam walks it about a learning rate a step, so a
   // step every step at 3e-3 carried it 0.39-0.60 m from the water (RMSE) on the tiny weak-wave
-  // presets, 13.96-19.76 dB against 20.30 with these (bench/results/readme-table/, 2026-12-06/07).
+  // presets, 13.96-19.76 dB against 21.61-22.16 with these (docs/experiments/2026-12-07-eval-cpu-defaults.md).
   const WaterRecipe& water = device.cpu && c.model == WaterModel::Refraction ? kCpuWater : kGpuWater;
   if (open("surface_lr")) c.surfaceLearningRate = water.surfaceLearningRate, note("surface_lr", text(water.surfaceLearningRate));
   if (open("surface_batch")) {
