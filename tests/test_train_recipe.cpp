@@ -44,7 +44,7 @@ TEST_CASE("recipe: the method sizes the run for the device and fills the water's
   CHECK(cpu.schedule.gaussianRestarts == std::vector<int>{1000, 1600, 2200});
   CHECK(cpu.mlpCoarseOctaves == 3);
   CHECK(cpu.anchorMeanHeight);
-  CHECK(cpu.levelPrior == 1000);
+  CHECK(cpu.levelPrior == 10000);  // the gentlest waves ran away under 1,000
   CHECK(cpu.surfaceSmoothness == 0.1);
 
   TrainConfig gpu = methodConfig();

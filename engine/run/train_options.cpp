@@ -380,7 +380,7 @@ std::vector<TrainOption> makeTable() {
                    "y^2} part of a least-squares fit, each vertex weighted by the training views that see it): straight-down views "
                    "barely see them (docs/training.md)",
                    field(&TrainConfig::levelPrior), 0, false, inf, false));
-  t.back().shownDefault = "10000 on a GPU, 1000 on a CPU; reference 0";
+  t.back().shownDefault = "10000; reference 0";
   t.push_back(switchOption("level-prior-tilt-only", "level_prior_tilt_only",
                            "the level prior on the seen water's tilt alone ({x, y}), not its bowl: a wave longer than the seen water is "
                            "partly a bowl, which the full prior holds flat (docs/training.md)",
