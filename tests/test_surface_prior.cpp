@@ -138,12 +138,44 @@ TEST_CASE("level prior: a quadratic surface is all tilt and bowl (E = lambda x i
         plane[g.first + j * g.rowLength + i] = float(c[0] + c[1] * x + c[2] * y);
         bowl[g.first + j * g.rowLength + i] = float(c[3] * x * x + c[4] * x * y + c[5] * y * y);
       }
-    CHECK(levelPrior(plane, g, w, lambda, nullptr, false) == doctest::Approx(lambda * weightedVariance(plane, w)).epsilon(1e-6));
-    CHECK(levelPrior(bowl, g, w, lambda, nullptr, false) < levelPrior(bowl, g, w, lambda, nullptr, true) - 1e-9);
+    CHECK(levelPrior(plane, g, w, lambda, nullptr, 1) == doctest::Approx(lambda * weightedVariance(plane, w)).epsilon(1e-6));
+    CHECK(levelPrior(bowl, g, w, lambda, nullptr, 1) < levelPrior(bowl, g, w, lambda, nullptr, 2) - 1e-9);
   }
 }
 
-TEST_CASE("level prior: the gradient matches central differences on random heights and weights, and unseen slots get none") {
+TEST_CASE("level prior of degree 4: a quartic is all of it, a bowl the same as at degree 2, a fine sine little, and degrees outside 1-6 are refused") {
+  std::mt19937 rng(20261207u);
+  for (GridLayout g : {bordered(16, 12, 0.1, 0.15), bordered(24, 9, 0.2, 0.05)}) {
+    const size_t n = slots(g);
+    std::vector<double> w = randomWeights(g, n, rng);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    std::vector<double> c(15);
+    for (double& v : c) v = U(rng);
+    std::vector<float> quartic(n, 0.0f), bowl(n, 0.0f), wave(n, 0.0f);
+    for (uint32_t j = 0; j <= g.cellsY; j++)
+      for (uint32_t i = 0; i <= g.cellsX; i++) {
+        const double x = i * g.spacingX - 0.9, y = j * g.spacingY + 0.2;  // any origin: the span does not move
+        double h = 0;
+        int m = 0;
+        for (int total = 0; total <= 4; total++)
+          for (int a = total; a >= 0; a--) h += c[m++] * std::pow(x, a) * std::pow(y, total - a);
+        const size_t k = g.first + j * g.rowLength + i;
+        quartic[k] = float(h);
+        bowl[k] = float(c[3] * x * x + c[4] * x * y + c[5] * y * y + c[1] * x);
+        wave[k] = float(std::sin(7.0 * i + 5.0 * j));
+      }
+    INFO("cells " << g.cellsX << " x " << g.cellsY);
+    const double lambda = 1.5;
+    CHECK(levelPrior(quartic, g, w, lambda, nullptr, 4) == doctest::Approx(lambda * weightedVariance(quartic, w)).epsilon(1e-5));
+    CHECK(levelPrior(quartic, g, w, lambda, nullptr, 3) < levelPrior(quartic, g, w, lambda, nullptr, 4) - 1e-9);
+    CHECK(levelPrior(bowl, g, w, lambda, nullptr, 4) == doctest::Approx(levelPrior(bowl, g, w, lambda, nullptr, 2)).epsilon(1e-6));
+    CHECK(levelPrior(wave, g, w, 1.0, nullptr, 4) < 0.2 * weightedVariance(wave, w));
+    CHECK_THROWS_AS(levelPrior(wave, g, w, 1.0, nullptr, 0), Error);
+    CHECK_THROWS_AS(levelPrior(wave, g, w, 1.0, nullptr, kMaxLevelPriorDegree + 1), Error);
+  }
+}
+
+TEST_CASE("level prior: the gradient matches central differences on random heights and weights at degrees 2 and 4, and unseen slots get none") {
   std::mt19937 rng(4242u);
   std::normal_distribution<float> N(0.0f, 0.05f);
   for (int trial = 0; trial < 3; trial++) {
@@ -155,20 +187,21 @@ TEST_CASE("level prior: the gradient matches central differences on random heigh
     const double lambda = 3.7;
     std::vector<float> grad(n, 0.0f);
     grad[1] = -2.0f;  // added to, not overwritten
-    CHECK(levelPrior(h, g, w, lambda, &grad) > 0);
+    const int degree = trial == 0 ? 2 : 4;  // the bowl and the quartic
+    CHECK(levelPrior(h, g, w, lambda, &grad, degree) > 0);
     double worst = 0, largest = 0;
     for (size_t k = 0; k < n; k++) {
       const float step = 1.0f / 64.0f;  // E is quadratic in the heights: central differences are exact up to rounding
       std::vector<float> up(h), down(h);
       up[k] += step;
       down[k] -= step;
-      double fd = (levelPrior(up, g, w, lambda, nullptr) - levelPrior(down, g, w, lambda, nullptr)) / double(up[k] - down[k]);
+      double fd = (levelPrior(up, g, w, lambda, nullptr, degree) - levelPrior(down, g, w, lambda, nullptr, degree)) / double(up[k] - down[k]);
       double got = grad[k] - (k == 1 ? -2.0 : 0.0);
       worst = std::max(worst, std::abs(got - fd));
       largest = std::max(largest, std::abs(fd));
       if (w[k] == 0) CHECK(got == 0.0);
     }
-    INFO("trial " << trial << ": worst " << worst << " of " << largest);
+    INFO("trial " << trial << " (degree " << degree << "): worst " << worst << " of " << largest);
     CHECK(largest > 0);
     CHECK(worst < 1e-5 * largest);
   }

@@ -198,6 +198,9 @@ struct TrainConfig {
   // The level prior on the tilt alone, not the bowl: a wave longer than the seen water projects
   // onto the bowl, which the prior then holds flat (surface_prior.h).
   bool levelPriorTiltOnly = false;
+  // The level prior's highest total degree (x^a y^b, a + b <= it); 2, tilt and bowl (the
+  // reference's prior, when on); --level-prior-tilt-only makes it 1.
+  int levelPriorDegree = 2;
   uint32_t gridCells = 64, subdivisionLevels = 2;
 
   // Schedule and its resolved values.

@@ -11,6 +11,7 @@
 
 #include "engine/base/error.h"
 #include "engine/gaussian/gaussian_trace.h"
+#include "engine/surface/surface_prior.h"
 
 namespace refrax {
 namespace {
@@ -385,6 +386,10 @@ std::vector<TrainOption> makeTable() {
                            "the level prior on the seen water's tilt alone ({x, y}), not its bowl: a wave longer than the seen water is "
                            "partly a bowl, which the full prior holds flat (docs/training.md)",
                            field(&TrainConfig::levelPriorTiltOnly), true));
+  t.push_back(integer<int>("level-prior-degree", "level_prior_degree", "D",
+                           "the level prior's highest degree: every x^a y^b of a + b <= D past the constant (2: tilt and bowl; 3 "
+                           "and 4: the smooth warps past the bowl, which the Gaussians also absorb; docs/training.md)",
+                           field(&TrainConfig::levelPriorDegree), 1, kMaxLevelPriorDegree));
   t.push_back(switchOption("anchor-mean-height", "anchor_mean_height",
                            "keep the learned water's mean height (each vertex weighted by the training views that see it) at the given "
                            "water height: straight-down views barely see a uniform shift (on with the method's recipe, the default)",

@@ -1,7 +1,6 @@
 #include "engine/surface/surface_prior.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <string>
 
@@ -46,11 +45,14 @@ double slopePrior(const std::vector<float>& heights, const GridLayout& g, double
 }
 
 double levelPrior(const std::vector<float>& heights, const GridLayout& g, const std::vector<double>& weights, double lambda,
-                  std::vector<float>* grad, bool bowl) {
+                  std::vector<float>* grad, int degree) {
+  if (degree < 1 || degree > kMaxLevelPriorDegree) fail("levelPrior: the degree is outside 1-" + std::to_string(kMaxLevelPriorDegree));
   checkGridFits(heights, g, grad, "levelPrior");
   if (weights.size() != heights.size()) fail("levelPrior: the weights are not sized like the heights");
-  // The seen vertices, their weights and positions (in cells: the span of the basis does not
-  // depend on the origin or the scale, and cell units keep the Gram matrix well conditioned).
+  // The seen vertices, their weights and positions (in [-1, 1] over the grid's longer side: the
+  // span of the basis does not depend on the origin or the scale, and a centred unit square keeps
+  // the Gram matrix of a quartic well conditioned).
+  const double side = std::max(g.cellsX * g.spacingX, g.cellsY * g.spacingY);
   std::vector<size_t> slot;
   std::vector<double> w, x, y;
   double total = 0;
@@ -61,8 +63,8 @@ double levelPrior(const std::vector<float>& heights, const GridLayout& g, const 
       if (weights[k] == 0) continue;
       slot.push_back(k);
       w.push_back(weights[k]);
-      x.push_back(i * g.spacingX / std::max(g.spacingX, g.spacingY));
-      y.push_back(j * g.spacingY / std::max(g.spacingX, g.spacingY));
+      x.push_back((2.0 * i - g.cellsX) * g.spacingX / side);
+      y.push_back((2.0 * j - g.cellsY) * g.spacingY / side);
       total += weights[k];
     }
   if (slot.empty()) return 0.0;
@@ -72,25 +74,25 @@ double levelPrior(const std::vector<float>& heights, const GridLayout& g, const 
     for (size_t k = 0; k < n; k++) sum += w[k] * a[k] * b[k];
     return sum / total;
   };
-  // The basis {1, x, y, x^2, xy, y^2} made orthonormal in the weighted mean (modified
-  // Gram-Schmidt); then E = lambda x the sum of the squared coefficients past the constant.
+  // The monomials x^a y^b of total degree up to `degree`, the constant first, made orthonormal in
+  // the weighted mean (modified Gram-Schmidt, two passes, which keep a quartic's basis orthogonal
+  // to rounding); then E = lambda x the sum of the squared coefficients past the constant.
   std::vector<std::vector<double>> q;
-  for (int m = 0; m < (bowl ? 6 : 3); m++) {
-    std::vector<double> b(n);
-    for (size_t k = 0; k < n; k++) {
-      const std::array<double, 6> monomial{1.0, x[k], y[k], x[k] * x[k], x[k] * y[k], y[k] * y[k]};
-      b[k] = monomial[m];
+  for (int total = 0; total <= degree; total++)
+    for (int a = total; a >= 0; a--) {
+      std::vector<double> b(n);
+      for (size_t k = 0; k < n; k++) b[k] = std::pow(x[k], a) * std::pow(y[k], total - a);
+      const double norm0 = std::sqrt(dot(b, b));
+      for (int pass = 0; pass < 2; pass++)
+        for (const auto& e : q) {
+          double c = dot(e, b);
+          for (size_t k = 0; k < n; k++) b[k] -= c * e[k];
+        }
+      const double norm = std::sqrt(dot(b, b));
+      if (norm <= 1e-9 * norm0) continue;  // in the span of the others at these vertices (or none)
+      for (double& v : b) v /= norm;
+      q.push_back(std::move(b));
     }
-    const double norm0 = std::sqrt(dot(b, b));
-    for (const auto& e : q) {
-      double c = dot(e, b);
-      for (size_t k = 0; k < n; k++) b[k] -= c * e[k];
-    }
-    const double norm = std::sqrt(dot(b, b));
-    if (norm <= 1e-9 * norm0) continue;  // in the span of the others at these vertices
-    for (double& v : b) v /= norm;
-    q.push_back(std::move(b));
-  }
   std::vector<double> h(n);
   for (size_t k = 0; k < n; k++) h[k] = heights[slot[k]];
   double energy = 0;

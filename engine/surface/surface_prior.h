@@ -29,7 +29,8 @@ struct GridLayout {
 double slopePrior(const std::vector<float>& heights, const GridLayout& grid, double lambda, std::vector<float>* grad);
 
 // --level-prior: E = lambda x the weighted mean square of the seen water's tilt and bowl:
-// fit the heights by {1, x, y, x^2, xy, y^2} in weighted least squares over the grid vertices
+// fit the heights by {1, x, y, x^2, xy, y^2} (to --level-prior-degree: every x^a y^b of
+// a + b <= degree) in weighted least squares over the grid vertices
 // of weight > 0 (weights sized like heights; the trainer weighs a vertex by the training views
 // that see it); E is the fit less its constant, squared, weighted-averaged. Why: with
 // near-vertical views a tilt or a bowl of the water acts as a prism or a lens whose shift and
@@ -38,8 +39,11 @@ double slopePrior(const std::vector<float>& heights, const GridLayout& grid, dou
 // --anchor-mean-height holds the constant; this holds the next two orders. Returns E and, when
 // grad is not null, adds dE/dheight to it (0 where the weight is 0 and outside the grid).
 // Directions the weights cannot tell apart (a seen region on one line has no y) are left out.
-// bowl = false: the tilt alone ({1, x, y}), which leaves a long wave's curvature to the views.
+// degree 1: the tilt alone ({1, x, y}), which leaves a long wave's curvature to the views;
+// 3 and 4: the smooth warps past the bowl too, which the Gaussians absorb as well (on desk the
+// learned water's excess error lay in its cubic and quartic parts; 2026-12-07-level-degree.md).
+constexpr int kMaxLevelPriorDegree = 6;
 double levelPrior(const std::vector<float>& heights, const GridLayout& grid, const std::vector<double>& weights, double lambda,
-                  std::vector<float>* grad, bool bowl = true);
+                  std::vector<float>* grad, int degree = 2);
 
 }  // namespace refrax

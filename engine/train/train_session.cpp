@@ -429,7 +429,8 @@ void computeSurfacePrior(TrainSession& s) {
   s.water.priorEnergy = 0;
   if (s.model.config.surfaceSmoothness > 0) s.water.priorEnergy += slopePrior(heights, g, s.model.config.surfaceSmoothness, &s.water.priorGrad);
   if (s.model.config.levelPrior > 0) {
-    s.water.priorEnergy += levelPrior(heights, g, trainViewWeights(s), s.model.config.levelPrior, &s.water.priorGrad, !s.model.config.levelPriorTiltOnly);
+    s.water.priorEnergy += levelPrior(heights, g, trainViewWeights(s), s.model.config.levelPrior, &s.water.priorGrad,
+                                  s.model.config.levelPriorTiltOnly ? 1 : s.model.config.levelPriorDegree);
   }
   s.water.priorHeightsVersion = ws.heightsVersion;
 }
