@@ -170,6 +170,12 @@ TEST_CASE("level prior of degree 4: a quartic is all of it, a bowl the same as a
     CHECK(levelPrior(quartic, g, w, lambda, nullptr, 3) < levelPrior(quartic, g, w, lambda, nullptr, 4) - 1e-9);
     CHECK(levelPrior(bowl, g, w, lambda, nullptr, 4) == doctest::Approx(levelPrior(bowl, g, w, lambda, nullptr, 2)).epsilon(1e-6));
     CHECK(levelPrior(wave, g, w, 1.0, nullptr, 4) < 0.2 * weightedVariance(wave, w));
+    // The warp's share: 0 leaves the bowl's prior, a share in between weighs what lies past it.
+    CHECK(levelPrior(quartic, g, w, lambda, nullptr, 4, 0.0) == doctest::Approx(levelPrior(quartic, g, w, lambda, nullptr, 2)).epsilon(1e-6));
+    const double past = levelPrior(quartic, g, w, lambda, nullptr, 4) - levelPrior(quartic, g, w, lambda, nullptr, 2);
+    CHECK(past > 0);
+    CHECK(levelPrior(quartic, g, w, lambda, nullptr, 4, 0.25) ==
+          doctest::Approx(levelPrior(quartic, g, w, lambda, nullptr, 2) + 0.25 * past).epsilon(1e-6));
     CHECK_THROWS_AS(levelPrior(wave, g, w, 1.0, nullptr, 0), Error);
     CHECK_THROWS_AS(levelPrior(wave, g, w, 1.0, nullptr, kMaxLevelPriorDegree + 1), Error);
   }
@@ -187,15 +193,17 @@ TEST_CASE("level prior: the gradient matches central differences on random heigh
     const double lambda = 3.7;
     std::vector<float> grad(n, 0.0f);
     grad[1] = -2.0f;  // added to, not overwritten
-    const int degree = trial == 0 ? 2 : 4;  // the bowl and the quartic
-    CHECK(levelPrior(h, g, w, lambda, &grad, degree) > 0);
+    const int degree = trial == 0 ? 2 : 4;  // the bowl and the quartic, its warps weighted less
+    const double share = trial == 2 ? 0.3 : 1.0;
+    CHECK(levelPrior(h, g, w, lambda, &grad, degree, share) > 0);
     double worst = 0, largest = 0;
     for (size_t k = 0; k < n; k++) {
       const float step = 1.0f / 64.0f;  // E is quadratic in the heights: central differences are exact up to rounding
       std::vector<float> up(h), down(h);
       up[k] += step;
       down[k] -= step;
-      double fd = (levelPrior(up, g, w, lambda, nullptr, degree) - levelPrior(down, g, w, lambda, nullptr, degree)) / double(up[k] - down[k]);
+      double fd = (levelPrior(up, g, w, lambda, nullptr, degree, share) - levelPrior(down, g, w, lambda, nullptr, degree, share)) /
+                  double(up[k] - down[k]);
       double got = grad[k] - (k == 1 ? -2.0 : 0.0);
       worst = std::max(worst, std::abs(got - fd));
       largest = std::max(largest, std::abs(fd));

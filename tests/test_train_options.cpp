@@ -38,7 +38,7 @@ const std::map<std::string, std::pair<std::string, std::string>> kSamples = {
     {"grid-cells", {"32", "4097"}}, {"subdivision", {"3", "7"}}, {"train-views", {"5", "0"}},
     {"patch", {"16", "16385"}}, {"density-decay", {"0.5", "0"}}, {"density-loss", {"0.5", "1001"}},
     {"surface-batch", {"views", "0"}}, {"surface-freeze", {"11", "-2"}}, {"surface-until", {"4000", "-2"}}, {"refit", {"13000", "-2"}}, {"face-normals-until", {"12", "-2"}},
-    {"surface-smoothness", {"0.1", "-1"}}, {"level-prior", {"1000", "inf"}}, {"level-prior-degree", {"4", "7"}}, {"anchor-mean-height", {"", ""}},
+    {"surface-smoothness", {"0.1", "-1"}}, {"level-prior", {"1000", "inf"}}, {"level-prior-degree", {"4", "7"}}, {"level-prior-warp", {"0.1", "2"}}, {"anchor-mean-height", {"", ""}},
     {"water-sign-check", {"", ""}}, {"surface-gate", {"1.05", "-1"}}, {"restart-gate", {"0.99", "-1"}}, {"surface-agreement", {"2", "17"}}, {"level-prior-tilt-only", {"", ""}},
     {"known-water-scale", {"0.5", "-1"}}, {"sweep-loss", {"1", "-1"}}, {"sweep-loss-every", {"4", "0"}}, {"sweep-loss-only", {"", ""}}, {"sweep-watch", {"500", "-1"}}, {"water-scale-search", {"", ""}},
     {"octaves-open-until", {"13", "-2"}}, {"sh-interval", {"14", "-2"}}, {"density-reset-every", {"15", "-2"}},

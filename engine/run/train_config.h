@@ -201,6 +201,8 @@ struct TrainConfig {
   // The level prior's highest total degree (x^a y^b, a + b <= it); 2, tilt and bowl (the
   // reference's prior, when on); --level-prior-tilt-only makes it 1.
   int levelPriorDegree = 2;
+  // The level prior's terms past the bowl weighted this share of levelPrior (1: the same).
+  double levelPriorWarpShare = 1.0;
   uint32_t gridCells = 64, subdivisionLevels = 2;
 
   // Schedule and its resolved values.

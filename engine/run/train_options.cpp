@@ -390,6 +390,10 @@ std::vector<TrainOption> makeTable() {
                            "the level prior's highest degree: every x^a y^b of a + b <= D past the constant (2: tilt and bowl; 3 "
                            "and 4: the smooth warps past the bowl, which the Gaussians also absorb; docs/training.md)",
                            field(&TrainConfig::levelPriorDegree), 1, kMaxLevelPriorDegree));
+  t.push_back(real("level-prior-warp", "level_prior_warp", "S",
+                   "study: the level prior's terms past the bowl (degree 3 and up, --level-prior-degree) weighted S times "
+                   "--level-prior: a long true wave is partly such a warp (docs/experiments/2026-12-07-level-degree.md)",
+                   field(&TrainConfig::levelPriorWarpShare), 0, false, 1, false));
   t.push_back(switchOption("anchor-mean-height", "anchor_mean_height",
                            "keep the learned water's mean height (each vertex weighted by the training views that see it) at the given "
                            "water height: straight-down views barely see a uniform shift (on with the method's recipe, the default)",

@@ -45,7 +45,7 @@ double slopePrior(const std::vector<float>& heights, const GridLayout& g, double
 }
 
 double levelPrior(const std::vector<float>& heights, const GridLayout& g, const std::vector<double>& weights, double lambda,
-                  std::vector<float>* grad, int degree) {
+                  std::vector<float>* grad, int degree, double warpShare) {
   if (degree < 1 || degree > kMaxLevelPriorDegree) fail("levelPrior: the degree is outside 1-" + std::to_string(kMaxLevelPriorDegree));
   checkGridFits(heights, g, grad, "levelPrior");
   if (weights.size() != heights.size()) fail("levelPrior: the weights are not sized like the heights");
@@ -78,6 +78,7 @@ double levelPrior(const std::vector<float>& heights, const GridLayout& g, const 
   // the weighted mean (modified Gram-Schmidt, two passes, which keep a quartic's basis orthogonal
   // to rounding); then E = lambda x the sum of the squared coefficients past the constant.
   std::vector<std::vector<double>> q;
+  std::vector<double> share;  // each basis function's weight, as a share of lambda
   for (int total = 0; total <= degree; total++)
     for (int a = total; a >= 0; a--) {
       std::vector<double> b(n);
@@ -92,6 +93,7 @@ double levelPrior(const std::vector<float>& heights, const GridLayout& g, const 
       if (norm <= 1e-9 * norm0) continue;  // in the span of the others at these vertices (or none)
       for (double& v : b) v /= norm;
       q.push_back(std::move(b));
+      share.push_back(total > 2 ? warpShare : 1.0);
     }
   std::vector<double> h(n);
   for (size_t k = 0; k < n; k++) h[k] = heights[slot[k]];
@@ -99,8 +101,8 @@ double levelPrior(const std::vector<float>& heights, const GridLayout& g, const 
   std::vector<double> dE(n, 0.0);
   for (size_t m = 1; m < q.size(); m++) {  // q[0] is the constant
     const double c = dot(q[m], h);
-    energy += c * c;
-    for (size_t k = 0; k < n; k++) dE[k] += 2 * c * w[k] * q[m][k] / total;
+    energy += share[m] * c * c;
+    for (size_t k = 0; k < n; k++) dE[k] += 2 * share[m] * c * w[k] * q[m][k] / total;
   }
   if (grad)
     for (size_t k = 0; k < n; k++) (*grad)[slot[k]] += float(lambda * dE[k]);

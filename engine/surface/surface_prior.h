@@ -42,8 +42,10 @@ double slopePrior(const std::vector<float>& heights, const GridLayout& grid, dou
 // degree 1: the tilt alone ({1, x, y}), which leaves a long wave's curvature to the views;
 // 3 and 4: the smooth warps past the bowl too, which the Gaussians absorb as well (on desk the
 // learned water's excess error lay in its cubic and quartic parts; 2026-12-07-level-degree.md).
+// warpShare: the terms past the bowl (degree 3 and up) weighted warpShare x lambda, so that a
+// long true wave, which is partly such a warp, is held less than a tilt or a bowl.
 constexpr int kMaxLevelPriorDegree = 6;
 double levelPrior(const std::vector<float>& heights, const GridLayout& grid, const std::vector<double>& weights, double lambda,
-                  std::vector<float>* grad, int degree = 2);
+                  std::vector<float>* grad, int degree = 2, double warpShare = 1.0);
 
 }  // namespace refrax

@@ -430,7 +430,7 @@ void computeSurfacePrior(TrainSession& s) {
   if (s.model.config.surfaceSmoothness > 0) s.water.priorEnergy += slopePrior(heights, g, s.model.config.surfaceSmoothness, &s.water.priorGrad);
   if (s.model.config.levelPrior > 0) {
     s.water.priorEnergy += levelPrior(heights, g, trainViewWeights(s), s.model.config.levelPrior, &s.water.priorGrad,
-                                  s.model.config.levelPriorTiltOnly ? 1 : s.model.config.levelPriorDegree);
+                                  s.model.config.levelPriorTiltOnly ? 1 : s.model.config.levelPriorDegree, s.model.config.levelPriorWarpShare);
   }
   s.water.priorHeightsVersion = ws.heightsVersion;
 }
