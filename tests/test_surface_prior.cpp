@@ -4,6 +4,7 @@
 // likewise, on exact quadratics, random heights and weights, and degenerate seen regions.
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -95,6 +96,15 @@ std::vector<double> randomWeights(const GridLayout& g, size_t n, std::mt19937& r
   return w;
 }
 
+// Heights f(i, j) at the grid's vertices (i, j), 0 off the grid.
+template <class F>
+std::vector<float> onGrid(const GridLayout& g, size_t n, F f) {
+  std::vector<float> h(n, 0.0f);
+  for (uint32_t j = 0; j <= g.cellsY; j++)
+    for (uint32_t i = 0; i <= g.cellsX; i++) h[g.first + j * g.rowLength + i] = float(f(i, j));
+  return h;
+}
+
 double weightedVariance(const std::vector<float>& h, const std::vector<double>& w) {
   double sw = 0, m = 0, v = 0;
   for (size_t k = 0; k < h.size(); k++) sw += w[k], m += w[k] * h[k];
@@ -112,32 +122,31 @@ TEST_CASE("level prior: a quadratic surface is all tilt and bowl (E = lambda x i
     std::vector<double> w = randomWeights(g, n, rng);
     std::uniform_real_distribution<double> U(-1.0, 1.0);
     const double c[6] = {U(rng), U(rng), U(rng), U(rng), U(rng), U(rng)};
-    std::vector<float> h(n, 0.0f);
-    for (uint32_t j = 0; j <= g.cellsY; j++)
-      for (uint32_t i = 0; i <= g.cellsX; i++) {
-        double x = i * g.spacingX - 0.4, y = j * g.spacingY + 0.3;  // any origin: the span does not move
-        h[g.first + j * g.rowLength + i] = float(c[0] + c[1] * x + c[2] * y + c[3] * x * x + c[4] * x * y + c[5] * y * y);
-      }
+    // any origin: the span does not move
+    auto at = [&](uint32_t i, uint32_t j) { return std::pair<double, double>{i * g.spacingX - 0.4, j * g.spacingY + 0.3}; };
+    std::vector<float> h = onGrid(g, n, [&](uint32_t i, uint32_t j) {
+      auto [x, y] = at(i, j);
+      return c[0] + c[1] * x + c[2] * y + c[3] * x * x + c[4] * x * y + c[5] * y * y;
+    });
     const double lambda = 2.5;
     INFO("cells " << g.cellsX << " x " << g.cellsY);
     CHECK(levelPrior(h, g, w, lambda, nullptr) == doctest::Approx(lambda * weightedVariance(h, w)).epsilon(1e-6));
     std::vector<float> flat(n, 0.37f);
     CHECK(levelPrior(flat, g, w, lambda, nullptr) == doctest::Approx(0.0).scale(1e-12));
     // The sine across the seen region has some tilt and bowl, but far less than its variance.
-    std::vector<float> wave(n, 0.0f);
-    for (uint32_t j = 0; j <= g.cellsY; j++)
-      for (uint32_t i = 0; i <= g.cellsX; i++) wave[g.first + j * g.rowLength + i] = float(std::sin(7.0 * i + 5.0 * j));
+    std::vector<float> wave = onGrid(g, n, [](uint32_t i, uint32_t j) { return std::sin(7.0 * i + 5.0 * j); });
     const double e = levelPrior(wave, g, w, 1.0, nullptr);
     CHECK(e > 0);
     CHECK(e < 0.2 * weightedVariance(wave, w));
     // The tilt alone: a plane is all tilt, a bowl only its part along {x, y}.
-    std::vector<float> plane(n, 0.0f), bowl(n, 0.0f);
-    for (uint32_t j = 0; j <= g.cellsY; j++)
-      for (uint32_t i = 0; i <= g.cellsX; i++) {
-        double x = i * g.spacingX - 0.4, y = j * g.spacingY + 0.3;
-        plane[g.first + j * g.rowLength + i] = float(c[0] + c[1] * x + c[2] * y);
-        bowl[g.first + j * g.rowLength + i] = float(c[3] * x * x + c[4] * x * y + c[5] * y * y);
-      }
+    std::vector<float> plane = onGrid(g, n, [&](uint32_t i, uint32_t j) {
+      auto [x, y] = at(i, j);
+      return c[0] + c[1] * x + c[2] * y;
+    });
+    std::vector<float> bowl = onGrid(g, n, [&](uint32_t i, uint32_t j) {
+      auto [x, y] = at(i, j);
+      return c[3] * x * x + c[4] * x * y + c[5] * y * y;
+    });
     CHECK(levelPrior(plane, g, w, lambda, nullptr, 1) == doctest::Approx(lambda * weightedVariance(plane, w)).epsilon(1e-6));
     CHECK(levelPrior(bowl, g, w, lambda, nullptr, 1) < levelPrior(bowl, g, w, lambda, nullptr, 2) - 1e-9);
   }
@@ -151,19 +160,20 @@ TEST_CASE("level prior of degree 4: a quartic is all of it, a bowl the same as a
     std::uniform_real_distribution<double> U(-1.0, 1.0);
     std::vector<double> c(15);
     for (double& v : c) v = U(rng);
-    std::vector<float> quartic(n, 0.0f), bowl(n, 0.0f), wave(n, 0.0f);
-    for (uint32_t j = 0; j <= g.cellsY; j++)
-      for (uint32_t i = 0; i <= g.cellsX; i++) {
-        const double x = i * g.spacingX - 0.9, y = j * g.spacingY + 0.2;  // any origin: the span does not move
-        double h = 0;
-        int m = 0;
-        for (int total = 0; total <= 4; total++)
-          for (int a = total; a >= 0; a--) h += c[m++] * std::pow(x, a) * std::pow(y, total - a);
-        const size_t k = g.first + j * g.rowLength + i;
-        quartic[k] = float(h);
-        bowl[k] = float(c[3] * x * x + c[4] * x * y + c[5] * y * y + c[1] * x);
-        wave[k] = float(std::sin(7.0 * i + 5.0 * j));
-      }
+    auto at = [&](uint32_t i, uint32_t j) { return std::pair<double, double>{i * g.spacingX - 0.9, j * g.spacingY + 0.2}; };
+    std::vector<float> quartic = onGrid(g, n, [&](uint32_t i, uint32_t j) {
+      auto [x, y] = at(i, j);
+      double h = 0;
+      int m = 0;
+      for (int total = 0; total <= 4; total++)
+        for (int a = total; a >= 0; a--) h += c[m++] * std::pow(x, a) * std::pow(y, total - a);
+      return h;
+    });
+    std::vector<float> bowl = onGrid(g, n, [&](uint32_t i, uint32_t j) {
+      auto [x, y] = at(i, j);
+      return c[3] * x * x + c[4] * x * y + c[5] * y * y + c[1] * x;
+    });
+    std::vector<float> wave = onGrid(g, n, [](uint32_t i, uint32_t j) { return std::sin(7.0 * i + 5.0 * j); });
     INFO("cells " << g.cellsX << " x " << g.cellsY);
     const double lambda = 1.5;
     CHECK(levelPrior(quartic, g, w, lambda, nullptr, 4) == doctest::Approx(lambda * weightedVariance(quartic, w)).epsilon(1e-5));
