@@ -3,21 +3,14 @@
 # straight rays from the same folders, the oracle's lead over straight rays from
 # bench/results/generalise/eval-cpu (4,000 steps), as ../eval-before-after.py.
 # Usage: python3 bench/results/cpu-water/level-prior/eval-compare.py [repository root]
-import csv, glob, os, statistics as st, sys
+import os, statistics as st, sys
 root = sys.argv[1] if len(sys.argv) > 1 else '.'
 here = os.path.join(root, 'bench/results/cpu-water')
-def load(*dirs):
-    d = {}
-    for p in dirs:
-        p = os.path.join(here, p)
-        files = glob.glob(os.path.join(p, 'rows', '*.csv')) + [f for f in [os.path.join(p, 'runs.csv')] if os.path.isfile(f)]
-        for f in files:
-            for r in csv.DictReader(open(f)):
-                if r.get('exit_code', '0') == '0': d[(r['scene'], r['seed'], r['variant'])] = r
-    return d
-lp1k = load('eval-defaults')
-lp10k = load('level-prior/eval-lp-s1', 'level-prior/eval-lp-s2')
-orc = load('../generalise/eval-cpu')
+sys.path.insert(0, here)
+from eval_rows import load  # noqa: E402
+lp1k = load(here, 'eval-defaults')
+lp10k = load(here, 'level-prior/eval-lp-s1', 'level-prior/eval-lp-s2')
+orc = load(here, '../generalise/eval-cpu')
 def f(r, k): return float(r[k])
 rows = []
 print('scene seed | oracle lead | straight | method 1,000 -> 10,000 | gain 1,000 -> 10,000 | surface/flat 1,000 -> 10,000 | amplitude 1,000 -> 10,000')
