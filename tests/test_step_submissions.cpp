@@ -55,29 +55,40 @@ double maxDifference(const std::vector<float>& a, const std::vector<float>& b) {
 
 GPU_TEST_CASE("training: the water's surface step in the batch's submission learns what a separate one learns, in one submission fewer") {
   // Every step a surface step, then one per three steps (a gradient summed over a batch).
-  for (const int surfaceBatch : {1, 3}) {
-    CAPTURE(surfaceBatch);
-    constexpr int kSteps = 6;
-    const SteppedWater separate = trainSteps(ctx, false, surfaceBatch, kSteps);
-    const SteppedWater inBatch = trainSteps(ctx, true, surfaceBatch, kSteps);
+  struct Case {
+    int surfaceBatch, steps;
+  };
+  // Every step a water step for 3 steps, not 6: under the compute trace the same path twice
+  // ended either about 1e-6 or 0.003 to 0.008 apart after 6 (0.43x the water's move; a CI
+  // pass measured its Adam moments 0.017 apart, 0.45x their size), once a hit came out the
+  // other way in one of them and the steps after it traced other water; after 3 steps, 8
+  // runs of 8 ended 2e-5 to 1e-4 of the move apart.
+  for (const Case k : {Case{1, 3}, Case{3, 6}}) {
+    CAPTURE(k.surfaceBatch);
+    const SteppedWater separate = trainSteps(ctx, false, k.surfaceBatch, k.steps);
+    const SteppedWater inBatch = trainSteps(ctx, true, k.surfaceBatch, k.steps);
     // How far the water moved (Adam moves each weight up to about the learning rate a step),
     // against how far the two paths ended apart: the sums are taken in another order (atomics),
-    // so not bit for bit. Measured (lavapipe): moved 0.019 and 0.011; with the ray-query trace
-    // apart 1e-6 to 2.6e-5, the same path twice 6e-7 to 5e-6; with the compute trace, every
-    // step a water step, the same path twice ends either about 1e-6 or 0.003 to 0.008 apart
-    // (0.43x the move), per run. A push that leaves out the cache's points or the priors'
-    // gradient ends 0.02 to 0.05 apart (1.7x the move and more).
-    const SteppedWater start = trainSteps(ctx, true, surfaceBatch, 0);
+    // so not bit for bit. Measured (lavapipe), apart over moved: with the ray-query trace up
+    // to 2.3e-3, with the compute trace up to 1.7e-3; their Adam moments up to 6e-5 of their
+    // largest. A push that leaves out the cache's points or the priors' gradient ends 0.02 to
+    // 0.05 apart (1.7x the move and more); without the priors' gradient, its moments 0.35x
+    // to 1.2x their largest apart.
+    const SteppedWater start = trainSteps(ctx, true, k.surfaceBatch, 0);
     const double moved = maxDifference(start.contents.heightWeights, separate.contents.heightWeights);
     const double apart = maxDifference(inBatch.contents.heightWeights, separate.contents.heightWeights);
-    MESSAGE("surface batch " << surfaceBatch << ": the water's weights moved up to " << moved << ", the two paths ended " << apart << " apart");
+    double momentSize = 0;
+    for (const float m : separate.contents.heightM) momentSize = std::max(momentSize, std::abs(double(m)));
+    const double momentsApart = maxDifference(inBatch.contents.heightM, separate.contents.heightM);
+    MESSAGE("surface batch " << k.surfaceBatch << ": the water's weights moved up to " << moved << ", the two paths ended " << apart
+                             << " apart; their Adam moments (up to " << momentSize << ") " << momentsApart << " apart");
     CHECK(moved > 1e-3);
-    const double bound = (ctx.trace == TraceBackend::Compute ? 0.6 : 5e-3) * moved;
-    CHECK(apart <= bound);
-    CHECK(maxDifference(inBatch.contents.heightM, separate.contents.heightM) <= bound);
+    const double share = ctx.trace == TraceBackend::Compute ? 2e-2 : 5e-3;
+    CHECK(apart <= share * moved);
+    CHECK(momentsApart <= share * momentSize);
     CHECK(inBatch.contents.heightStep == separate.contents.heightStep);
     // One submission fewer per surface step.
-    const uint64_t surfaceSteps = uint64_t(kSteps / surfaceBatch);
+    const uint64_t surfaceSteps = uint64_t(k.steps / k.surfaceBatch);
     CHECK(separate.submits - inBatch.submits == surfaceSteps);
   }
 }
