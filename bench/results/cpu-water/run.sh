@@ -113,3 +113,11 @@ for seed in 1 2 3; do for w in 0.1 0.3 0.03; do
   $R train /tmp/desk -o /tmp/desk-w$w-$seed --steps 1500 --seed $seed --level-prior-degree 4 --level-prior-warp $w --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/degree 4 warp $w seed $seed: /"
 done; done
 PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "10 16" --seed-list "1 2 3" --models method --method-flags "--level-prior-degree 4 --level-prior-warp 0.1" --jobs 2 --out /tmp/dev-warp-0.1
+# S = 0.1 on the rest of the development scenes where the water matters and the strong wave
+# (training code 5d243ac, unchanged since; seeds 1-3, two trainings at a time), then the
+# three arms side by side on the development scenes
+for seed in 1 2 3; do
+  $R train $data -o /tmp/sw-w0.1-$seed --seed $seed --level-prior-degree 4 --level-prior-warp 0.1 --checkpoint-every 0 --progress-every 100000 | tail -n 1 | sed "s/^/degree 4 warp 0.1 seed $seed: /"
+done
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "9 14 15" --seed-list "1 2 3" --models method --method-flags "--level-prior-degree 4 --level-prior-warp 0.1" --jobs 2 --out /tmp/dev-9-14-15-warp-0.1
+python3 bench/results/cpu-water/level-degree/dev-warp.py .
