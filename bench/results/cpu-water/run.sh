@@ -121,3 +121,7 @@ for seed in 1 2 3; do
 done
 PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "9 14 15" --seed-list "1 2 3" --models method --method-flags "--level-prior-degree 4 --level-prior-warp 0.1" --jobs 2 --out /tmp/dev-9-14-15-warp-0.1
 python3 bench/results/cpu-water/level-degree/dev-warp.py .
+# The evaluation set at S = 0.1, the method at seed 1 (training code 5d243ac), and the three
+# level priors side by side (straight rays: eval-defaults/)
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set eval --scenes 12 --seed-list "1" --models method --method-flags "--level-prior-degree 4 --level-prior-warp 0.1" --jobs 2 --out /tmp/eval-w0.1-s1
+python3 bench/results/cpu-water/level-degree/eval-warp.py .
