@@ -5,11 +5,11 @@
 # straight rays from ../eval-defaults/ (seed 1; their training code is unchanged since), the
 # oracle's lead over straight rays from bench/results/generalise/eval-cpu (4,000 steps).
 # Usage: python3 bench/results/cpu-water/level-degree/eval-compare.py [repository root]
-import os, statistics as st, sys
+import os, sys
 root = sys.argv[1] if len(sys.argv) > 1 else '.'
 here = os.path.join(root, 'bench/results/cpu-water')
 sys.path.insert(0, here)
-from eval_rows import load  # noqa: E402
+from eval_rows import goal_line, load  # noqa: E402
 
 
 straight = load(here, 'eval-defaults')
@@ -35,18 +35,5 @@ for sc in map(str, range(1001, 1013)):
         sc, x['lead'], f(n, 'eval_psnr'), x['p2'], x['p4'], x['g2'], x['g4'], x['r2'], x['r4'], x['a2'], x['a4'], x['c2'], x['c4']))
 
 
-def goals(tag):
-    matters = [x for x in rows if x['lead'] >= 1]
-    rest = [x for x in rows if x['lead'] < 1]
-    med = lambda v: st.median(v) if v else float('nan')
-    g, r, a = 'g' + tag, 'r' + tag, 'a' + tag
-    print('degree %s: %d runs; where the water matters (oracle lead >= 1 dB, %d runs): beats straight rays %d, median gain %+.2f, '
-          'median amplitude %.2f; elsewhere (%d runs): within 0.5 dB of straight rays %d, median gain %+.2f; '
-          'diverged (> 1.5x the flat start) %d; worse than flat %d; worst %.2fx' % (
-              tag, len(rows), len(matters), sum(x[g] > 0 for x in matters), med([x[g] for x in matters]), med([x[a] for x in matters]),
-              len(rest), sum(x[g] >= -0.5 for x in rest), med([x[g] for x in rest]), sum(x[r] > 1.5 for x in rows),
-              sum(x[r] > 1 for x in rows), max(x[r] for x in rows)))
-
-
-goals('2')
-goals('4')
+for tag in ('2', '4'):
+    print(goal_line('degree ' + tag, rows, lambda x: x['g' + tag], lambda x: x['r' + tag], lambda x: x['a' + tag]))

@@ -5,11 +5,11 @@
 # ../eval-defaults/ (seed 1; their training code is unchanged since), the oracle's lead over
 # straight rays from bench/results/generalise/eval-cpu (4,000 steps).
 # Usage: python3 bench/results/cpu-water/level-degree/eval-warp.py [repository root]
-import os, statistics as st, sys
+import os, sys
 root = sys.argv[1] if len(sys.argv) > 1 else '.'
 here = os.path.join(root, 'bench/results/cpu-water')
 sys.path.insert(0, here)
-from eval_rows import load  # noqa: E402
+from eval_rows import goal_line, load  # noqa: E402
 
 arms = [('degree 2', load(here, 'level-prior/eval-lp-s1')), ('degree 4', load(here, 'level-degree/eval-d4-s1')),
         ('degree 4, warp 0.1', load(here, 'level-degree/eval-w0.1-s1'))]
@@ -34,12 +34,4 @@ for sc in map(str, range(1001, 1013)):
                                                        j('%.2f', x['r']), j('%.2f', x['a']), j('%.2f', x['c'])))
 
 for i, (name, _) in enumerate(arms):
-    matters = [x for x in rows if x['lead'] >= 1]
-    rest = [x for x in rows if x['lead'] < 1]
-    med = lambda v: st.median(v) if v else float('nan')
-    print('%s: %d runs; where the water matters (oracle lead >= 1 dB, %d runs): beats straight rays %d, median gain %+.2f, '
-          'median amplitude %.2f; elsewhere (%d runs): within 0.5 dB of straight rays %d, median gain %+.2f; '
-          'diverged (> 1.5x the flat start) %d; worse than flat %d; worst %.2fx' % (
-              name, len(rows), len(matters), sum(x['g'][i] > 0 for x in matters), med([x['g'][i] for x in matters]),
-              med([x['a'][i] for x in matters]), len(rest), sum(x['g'][i] >= -0.5 for x in rest), med([x['g'][i] for x in rest]),
-              sum(x['r'][i] > 1.5 for x in rows), sum(x['r'][i] > 1 for x in rows), max(x['r'][i] for x in rows)))
+    print(goal_line(name, rows, lambda x: x['g'][i], lambda x: x['r'][i], lambda x: x['a'][i]))
