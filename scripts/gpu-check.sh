@@ -163,10 +163,13 @@ if [ -f "$out/run/metrics.json" ]; then
   note "training (nerfrac-primary-sine, full size, whole 392^2 images, the reference settings): $(grep -m 1 '^profile:' "$out/train.log"); $(grep -m 1 '^test psnr' "$out/train.log")"
   # issue 48's figures: the host's share of a step and the submits per step (goal: <= 10%, <= 2)
   note "training host share: $(python3 -c 'import json, sys; p = json.load(open(sys.argv[1]))["profile"]; print("%.1f of %.1f ms per step (%.0f%%), %.2f submits per step" % (p["host_ms_per_step"], p["wall_ms_per_step"], 100 * p["host_ms_per_step"] / p["wall_ms_per_step"], p["submits_per_step"]))' "$out/run/metrics.json" 2>/dev/null || echo unknown)"
+  # where issue 48 began, on an H200 with the compute backend (bench/results/gpu-check/, 2026-11-28)
+  note "  before (issue 48, H200, 2026-11-28): 12.0 of 21.6 ms per step (55%), 20 submits and 61 dispatches per step"
   run 300 render "$REFRAX" render "$out/run" --split test -o "$out/renders" --benchmark 20
   # the frame, where it goes, and the Gaussian trace alone for the same rays (goal: the frame <= 1.3x it)
   if grep -q '^benchmark:' "$out/render.log"; then
     while IFS= read -r line; do note "render: $line"; done < <(grep '^benchmark:' "$out/render.log")
+    note "  before (issue 48, three H200 machines): 11.8, 16.6 and 32.8 ms per 392^2 frame (85, 60, 31 FPS); the tracer alone 0.3-2 ms for 392^2 rays"
   else
     note "render: FAILED (render.log)"
   fi
