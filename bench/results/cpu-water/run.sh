@@ -135,3 +135,12 @@ python3 bench/results/cpu-water/eval-defaults-s2.py . > bench/results/cpu-water/
 for s in 1006 1007 1008 1009 1010 1011 1012; do
   PATH=/usr/bin:$PATH python3 bench/water-error-map.py /tmp/keep/scene_${s}_seed_2_method /tmp/data/scene_${s}_wet
 done > bench/results/cpu-water/eval-defaults-s2/error-map.txt
+# Every octave of the height field open by step 2,000 at the defaults, on development scenes
+# with fine waves (15, 16) and long ones (9, 10), one or two seeds (training code 90261b9;
+# --keep-work for bench/water-error-map.py), and dev 10 so without the slope prior; the pairs
+# against the defaults' rows of the same seeds
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "16 15 10" --seed-list "1" --models method --method-flags "--octaves-open-until 2000" --keep-work --jobs 1 --out /tmp/dev-open-s1
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "9 16 15" --seed-list "2" --models method --method-flags "--octaves-open-until 2000" --keep-work --jobs 1 --out /tmp/dev-open-s2
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "10" --seed-list "2" --models method --method-flags "--octaves-open-until 2000" --keep-work --jobs 1 --out /tmp/dev-open-s2-10
+PATH=/usr/bin:$PATH bash bench/generalise.sh --set dev --scene-list "10" --seed-list "1" --models method --method-flags "--octaves-open-until 2000 --surface-smoothness 0" --keep-work --jobs 1 --out /tmp/dev-open-no-slope-prior
+python3 bench/results/cpu-water/octaves/dev-octaves.py . > bench/results/cpu-water/octaves/dev-octaves.txt
