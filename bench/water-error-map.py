@@ -20,6 +20,8 @@ import sys
 
 import numpy as np
 
+from water_truth import truth_heights
+
 if len(sys.argv) != 3:
     sys.exit('usage: bench/water-error-map.py RUN DATASET')
 run, dataset = sys.argv[1:]
@@ -29,19 +31,7 @@ ny, nx = learned.shape
 x0, y0, x1, y1 = config['domain']
 X, Y = np.meshgrid(np.linspace(x0, x1, nx), np.linspace(y0, y1, ny))
 
-water = json.load(open(dataset + '/water.json'))
-truth_map = np.load(dataset + '/' + water['height_map']['file']).astype(np.float64)
-tx0, ty0, tx1, ty1 = water['height_map']['domain']
-
-
-def truth_at(x, y):  # bilinear in the truth's height map
-    tny, tnx = truth_map.shape
-    u, v = (x - tx0) / (tx1 - tx0) * (tnx - 1), (y - ty0) / (ty1 - ty0) * (tny - 1)
-    i, j = np.clip(u.astype(int), 0, tnx - 2), np.clip(v.astype(int), 0, tny - 2)
-    fu, fv = u - i, v - j
-    return ((truth_map[j, i] * (1 - fu) + truth_map[j, i + 1] * fu) * (1 - fv) +
-            (truth_map[j + 1, i] * (1 - fu) + truth_map[j + 1, i + 1] * fu) * fv)
-
+water, truth_at = truth_heights(dataset)
 
 # How many training views see each node (pinhole, NeRF's camera axes: x right, y up, looking
 # down -z), at the water's height.

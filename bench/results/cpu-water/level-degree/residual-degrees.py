@@ -4,27 +4,18 @@
 # the true waves' own variance that such a fit holds. Where the error falls at d = 3 and 4 it lies
 # in smooth warps past the bowl, which the level prior of degree 2 does not hold.
 # Usage: PATH=/usr/bin:$PATH python3 residual-degrees.py RUN DATASET HALF   (needs numpy)
-import json, sys
+import json, os, sys
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', '..'))  # bench/
+from water_truth import truth_heights  # noqa: E402
 
 run, dataset, half = sys.argv[1], sys.argv[2], float(sys.argv[3])
 learned = np.load(run + '/water_height.npy')
 x0, y0, x1, y1 = json.load(open(run + '/config.json'))['domain']
-water = json.load(open(dataset + '/water.json'))
-truth_map = np.load(dataset + '/' + water['height_map']['file'])
-tx0, ty0, tx1, ty1 = water['height_map']['domain']
+_, truth_at = truth_heights(dataset)
 ny, nx = learned.shape
 X, Y = np.meshgrid(np.linspace(x0, x1, nx), np.linspace(y0, y1, ny))
-
-
-def truth_at(x, y):  # bilinear in the truth's height map
-    tny, tnx = truth_map.shape
-    u, v = (x - tx0) / (tx1 - tx0) * (tnx - 1), (y - ty0) / (ty1 - ty0) * (tny - 1)
-    i, j = np.clip(u.astype(int), 0, tnx - 2), np.clip(v.astype(int), 0, tny - 2)
-    fu, fv = u - i, v - j
-    return ((truth_map[j, i] * (1 - fu) + truth_map[j, i + 1] * fu) * (1 - fv) +
-            (truth_map[j + 1, i] * (1 - fu) + truth_map[j + 1, i + 1] * fu) * fv)
-
 
 inside = (np.abs(X) <= half) & (np.abs(Y) <= half)
 l, t = learned[inside], truth_at(X, Y)[inside]
